@@ -1,0 +1,10 @@
+include(GoogleTest)
+
+# flsd_test(NAME SOURCE LABEL [LIBS...]): one gtest executable whose cases are registered with
+# ctest under LABEL (unit or integration), so `ctest -L unit` selects the fast ones.
+function(flsd_test name source label)
+  add_executable(${name} ${source})
+  target_link_libraries(${name} PRIVATE GTest::gtest_main ${ARGN})
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
+  gtest_discover_tests(${name} PROPERTIES LABELS ${label} DISCOVERY_TIMEOUT 60)
+endfunction()

@@ -1,0 +1,99 @@
+#pragma once
+// One simulated A1: reset, and a 50 Hz step that runs the motor PD law at every 5 ms physics step.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/rng.h"
+#include "robot/robot_state.h"
+#include "sim/env_config.h"
+#include "sim/mujoco_model.h"
+
+namespace flsd {
+
+// Why an episode ended. kNone while it goes on.
+enum class Termination : unsigned char {
+  kNone = 0,
+  kTimeOut,        // reached EnvConfig::episode_steps; bootstrap, do not treat as failure
+  kBodyContact,    // trunk, hip or thigh (optionally calf) touched the floor: a fall
+  kTilt,           // attitude beyond TerminationConfig::max_tilt
+  kLowBase,        // base below TerminationConfig::min_base_height
+  kInvalidAction,  // a NaN or infinite action; it was not applied
+  kPhysics,        // MuJoCo reported an unstable simulation (bad acceleration, non-finite state)
+};
+const char* ToString(Termination t);
+inline bool IsFailure(Termination t) { return t != Termination::kNone && t != Termination::kTimeOut; }
+
+// The physical parameters drawn at the last reset.
+struct EnvRandomization {
+  double friction = 1.0;
+  double restitution = 0.0;
+  double base_mass_offset = 0.0;  // kg
+  double link_mass_scale = 1.0;
+  int action_delay = 0;  // control steps
+  a1::JointArray<double> motor_strength{};
+};
+
+class Env {
+ public:
+  // Copies `model`, so that what is randomised stays this env's own.
+  Env(const mjModel& model, const EnvConfig& config, uint64_t seed);
+  Env(Env&&) = default;
+  Env& operator=(Env&&) = default;
+  Env(const Env&) = delete;
+  Env& operator=(const Env&) = delete;
+
+  // Draws new randomised parameters and a new initial state near the standing pose.
+  void Reset();
+
+  // Advances one control step with policy action `action` (12 floats): joint targets
+  // q* = q_default + 0.25 a (after the drawn action delay), torque Kp (q* - q) - Kd qdot scaled by
+  // the motor strength and clipped to +-33.5 N m, recomputed at each of the 4 physics steps.
+  // Returns why the episode ended, or kNone. The env does not reset itself.
+  Termination Step(const float* action);
+
+  const RobotState& state() const { return state_; }
+  int episode_step() const { return episode_step_; }
+  // True when a calf (not the foot) touched the floor during the last step: a knee strike.
+  bool calf_contact() const { return calf_contact_; }
+  const EnvRandomization& randomization() const { return randomization_; }
+  const EnvConfig& config() const { return config_; }
+  const mjModel& model() const { return *model_; }
+  const A1ModelIndex& index() const { return index_; }
+
+  // Direct access for tests and tools that pose the robot; call SyncState() after editing.
+  mjData& data() { return *data_; }
+  const mjData& data() const { return *data_; }
+  void SyncState();
+
+ private:
+  void SampleRandomization();
+  void ApplyRandomization();
+  void PlaceInitialState();
+  void ReadState();
+  Termination CheckTermination() const;
+
+  MjModelPtr model_;
+  MjDataPtr data_;
+  A1ModelIndex index_;
+  EnvConfig config_;
+  Rng rng_;
+
+  // Nominal values that randomisation scales, captured from the model at construction.
+  std::vector<mjtNum> nominal_body_mass_;
+  std::vector<mjtNum> nominal_body_inertia_;
+
+  EnvRandomization randomization_;
+  static constexpr int kHistory = RandomizationConfig::kMaxActionDelay + 1;
+  std::array<std::array<float, a1::kNumJoints>, kHistory> action_history_{};
+  int history_head_ = 0;
+  int push_interval_steps_ = 0;
+
+  RobotState state_;
+  int episode_step_ = 0;
+  bool body_contact_ = false;
+  bool calf_contact_ = false;
+};
+
+}  // namespace flsd

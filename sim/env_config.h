@@ -1,0 +1,111 @@
+#pragma once
+// Configuration of the simulated A1 environment. Each field is read from YAML (see core/config.h);
+// the defaults are legged_gym's where it has one (cited in shared/facts), and the reason is given
+// where it has none.
+
+#include <string>
+
+#include "core/config.h"
+
+namespace flsd {
+
+// A randomised quantity: drawn uniformly from `range` at every reset when enabled.
+struct RandomRange {
+  bool enabled = true;
+  Interval range;
+  Bounds<double> allowed{0.0, 0.0};  // what a config may set `range` to; not itself configurable
+  template <class V>
+  void Visit(V& v) {
+    v("enabled", enabled);
+    v("range", range, allowed);
+  }
+};
+
+struct PushConfig {
+  bool enabled = true;
+  double interval_s = 15.0;    // legged_gym: every 15 s
+  double max_velocity = 1.0;   // m/s; base v_xy is set to U(-max, max), as in legged_gym
+  template <class V>
+  void Visit(V& v) {
+    v("enabled", enabled);
+    v("interval_s", interval_s, Bounds<double>{0.02, 3600.0});
+    v("max_velocity", max_velocity, Bounds<double>{0.0, 5.0});
+  }
+};
+
+// Domain randomisation of the paper's Sec. IV-A.
+struct RandomizationConfig {
+  static constexpr int kMaxActionDelay = 4;
+
+  RandomRange friction{true, {0.5, 1.25}, {0.0, 5.0}};  // legged_gym's friction range
+  RandomRange restitution{true, {0.0, 0.4}, {0.0, 0.95}};  // legged_gym's plane has 0
+  RandomRange base_mass_offset{true, {-1.0, 1.0}, {-5.0, 5.0}};  // kg on the trunk (legged_gym)
+  RandomRange link_mass_scale{true, {0.9, 1.1}, {0.1, 3.0}};  // leg links' mass and inertia, x
+  // Control steps, rounded (1 step = 20 ms): the A1's UDP round trip and estimator add about one.
+  RandomRange action_delay{true, {0.0, 1.0}, {0.0, kMaxActionDelay}};
+  RandomRange motor_strength{true, {0.9, 1.1}, {0.1, 2.0}};  // per joint, scales the PD torque
+  PushConfig push;
+
+  template <class V>
+  void Visit(V& v) {
+    v("friction", friction);
+    v("restitution", restitution);
+    v("base_mass_offset", base_mass_offset);
+    v("link_mass_scale", link_mass_scale);
+    v("action_delay", action_delay);
+    v("motor_strength", motor_strength);
+    v("push", push);
+  }
+  // Turns every randomisation off: the nominal robot on the nominal floor.
+  void DisableAll() {
+    for (RandomRange* r : {&friction, &restitution, &base_mass_offset, &link_mass_scale,
+                           &action_delay, &motor_strength}) {
+      r->enabled = false;
+    }
+    push.enabled = false;
+  }
+};
+
+struct ResetConfig {
+  Interval joint_pos_scale{0.5, 1.5};  // q = q_default * U(range), clipped to the joint range
+  double base_velocity = 0.5;          // each of the 6 base velocities ~ U(-x, x) (legged_gym)
+  double foot_clearance = 0.005;       // m between the lowest foot and the floor at reset
+  template <class V>
+  void Visit(V& v) {
+    v("joint_pos_scale", joint_pos_scale, Bounds<double>{0.0, 3.0});
+    v("base_velocity", base_velocity, Bounds<double>{0.0, 5.0});
+    v("foot_clearance", foot_clearance, Bounds<double>{0.0, 0.5});
+  }
+};
+
+struct TerminationConfig {
+  // A fall: any trunk, hip or thigh geom touching the floor (legged_gym ends on base contact;
+  // the issue adds thighs). Calf contact is a knee strike and counted, but does not end it.
+  bool on_calf_contact = false;
+  double max_tilt = 1.2;          // rad between the body z axis and the world z axis
+  double min_base_height = 0.08;  // m; the paper's skills reach 0.09 m (Table I)
+  template <class V>
+  void Visit(V& v) {
+    v("on_calf_contact", on_calf_contact);
+    v("max_tilt", max_tilt, Bounds<double>{0.1, 3.2});
+    v("min_base_height", min_base_height, Bounds<double>{0.0, 1.0});
+  }
+};
+
+struct EnvConfig {
+  std::string model = "robot/a1/scene.xml";
+  int episode_steps = 1000;  // 20 s at 50 Hz, as legged_gym
+  ResetConfig reset;
+  TerminationConfig termination;
+  RandomizationConfig randomization;
+  template <class V>
+  void Visit(V& v) {
+    v("model", model);
+    v("episode_steps", episode_steps, Bounds<int>{1, 10000000});
+    v("reset", reset);
+    v("termination", termination);
+    v("randomization", randomization);
+  }
+};
+
+}  // namespace flsd

@@ -1,0 +1,3 @@
+#include "core/config.h"
+#include <gtest/gtest.h>
+TEST(Placeholder, Builds) {}

@@ -1,0 +1,46 @@
+// flsd: the learning-side command line (simulator demo and benchmarks; training comes next).
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+
+#include "bench/sim_bench.h"
+#include "core/check.h"
+#include "tools/flsd/sim_demo.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"FLSD: Fourier Latent Skill Discovery for the Unitree A1"};
+  app.require_subcommand(1);
+
+  flsd::SimDemoOptions demo;
+  CLI::App* demo_cmd = app.add_subcommand("demo", "Stand the simulated A1, then drive it with random targets");
+  demo_cmd->add_option("--stand-seconds", demo.stand_seconds, "Length of the standing phase")->check(CLI::Range(0.02, 3600.0));
+  demo_cmd->add_option("--random-seconds", demo.random_seconds, "Length of the random-target phase")->check(CLI::Range(0.02, 3600.0));
+  demo_cmd->add_option("--seed", demo.seed, "Random seed");
+
+  CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks that print JSON");
+  bench_cmd->require_subcommand(1);
+  flsd::SimBenchOptions sim;
+  bool json = false;
+  CLI::App* sim_cmd = bench_cmd->add_subcommand("sim", "VecEnv throughput against the bare mj_step ceiling");
+  sim_cmd->add_option("--config", sim.config, "YAML file with an env section (default: built-in defaults)");
+  sim_cmd->add_option("--envs", sim.num_envs, "Number of environments")->check(CLI::Range(1, 100000));
+  sim_cmd->add_option("--threads", sim.num_threads, "Threads (0: every core)")->check(CLI::Range(0, 1024));
+  sim_cmd->add_option("--seconds", sim.seconds, "Timed seconds per side")->check(CLI::Range(0.1, 3600.0));
+  sim_cmd->add_option("--seed", sim.seed, "Random seed");
+  sim_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*demo_cmd) return flsd::RunSimDemo(demo);
+    if (*sim_cmd) {
+      std::printf("%s\n", flsd::RunSimBenchmark(sim).dump(2).c_str());
+      return 0;
+    }
+  } catch (const flsd::InputError& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -21,7 +21,10 @@ void ConfigReader::Finish() const {
   }
 }
 
-std::string ConfigReader::Where(const char* key) const { return where_ + "." + key; }
+std::string ConfigReader::Where(const char* key) const {
+  // "file.yaml:" starts a path; "file.yaml: env" continues one.
+  return where_ + (!where_.empty() && where_.back() == ':' ? " " : ".") + key;
+}
 
 void ConfigReader::Fail(const char* key, const std::string& expected, const YAML::Node& got) const {
   YAML::Emitter shown;

@@ -52,6 +52,10 @@ template <class T>
 struct IsSection<T, std::void_t<decltype(std::declval<T&>().Visit(std::declval<Probe&>()))>>
     : std::true_type {};
 template <class T>
+struct IsVector : std::false_type {};
+template <class T>
+struct IsVector<std::vector<T>> : std::true_type {};
+template <class T>
 std::string Show(const T& v) {
   std::ostringstream s;
   s << v;
@@ -104,6 +108,11 @@ class ConfigWriter {
       pair.push_back(value.hi);
       pair.SetStyle(YAML::EmitterStyle::Flow);
       node_[key] = pair;
+    } else if constexpr (config_detail::IsVector<T>::value) {
+      YAML::Node list(YAML::NodeType::Sequence);
+      for (const auto& item : value) list.push_back(item);
+      list.SetStyle(YAML::EmitterStyle::Flow);
+      node_[key] = list;
     } else {
       node_[key] = value;
     }
@@ -175,6 +184,13 @@ void ConfigReader::Read(const char* key, T& value) {
       Fail(key, "a range [lo, hi] of numbers", item);
     }
     if (!(value.lo <= value.hi)) Fail(key, "a range [lo, hi] with lo <= hi", item);
+  } else if constexpr (config_detail::IsVector<T>::value) {
+    if (!item.IsSequence()) Fail(key, "a list [a, b, ...]", item);
+    try {
+      value = item.as<T>();
+    } catch (const YAML::Exception&) {
+      Fail(key, "a list of numbers", item);
+    }
   } else {
     if (!item.IsScalar()) Fail(key, "a single value", item);
     try {
@@ -197,6 +213,13 @@ void ConfigReader::CheckBounds(const char* key, const T& value, Bounds<B> bounds
     if (!inside(value.lo) || !inside(value.hi)) {
       throw InputError(Where(key) + ": expected both ends within " + range + ", got [" +
                        config_detail::Show(value.lo) + ", " + config_detail::Show(value.hi) + "]");
+    }
+  } else if constexpr (config_detail::IsVector<T>::value) {
+    for (const auto& x : value) {
+      if (!inside(static_cast<double>(x))) {
+        throw InputError(Where(key) + ": expected every entry within " + range + ", got " +
+                         config_detail::Show(x));
+      }
     }
   } else if (!inside(static_cast<double>(value))) {
     throw InputError(Where(key) + ": expected a value within " + range + ", got " +

@@ -1,6 +1,7 @@
 #include "core/thread_pool.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "core/check.h"
 
@@ -37,6 +38,7 @@ void ThreadPool::ParallelFor(int n, const std::function<void(int, int)>& fn) {
     fn(0, n);
     return;
   }
+  error_ = nullptr;
   job_ = &fn;
   job_size_ = n;
   pending_.store(num_threads_ - 1, std::memory_order_relaxed);
@@ -56,13 +58,20 @@ void ThreadPool::ParallelFor(int n, const std::function<void(int, int)>& fn) {
     done_cv_.wait(lock, [this] { return pending_.load(std::memory_order_acquire) == 0; });
   }
   job_ = nullptr;
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
 void ThreadPool::RunChunks() {
-  for (;;) {
-    const int begin = next_.fetch_add(kChunk, std::memory_order_relaxed);
-    if (begin >= job_size_) return;
-    (*job_)(begin, std::min(begin + kChunk, job_size_));
+  try {
+    for (;;) {
+      const int begin = next_.fetch_add(kChunk, std::memory_order_relaxed);
+      if (begin >= job_size_) return;
+      (*job_)(begin, std::min(begin + kChunk, job_size_));
+    }
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!error_) error_ = std::current_exception();
+    next_.store(job_size_, std::memory_order_relaxed);  // hand out no more work
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 #include <atomic>
 #include <condition_variable>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -28,7 +29,8 @@ class ThreadPool {
   int num_threads() const { return num_threads_; }
 
   // Calls fn(begin, end) on disjoint chunks covering [0, n) and returns when all are done. Which
-  // thread runs a chunk varies from call to call: fn must not depend on it.
+  // thread runs a chunk varies from call to call: fn must not depend on it. If fn throws, the
+  // first exception is rethrown here once every thread has stopped using fn.
   void ParallelFor(int n, const std::function<void(int begin, int end)>& fn);
 
  private:
@@ -48,6 +50,7 @@ class ThreadPool {
   std::atomic<int> next_{0};     // first index of the next chunk to hand out
   std::atomic<int> pending_{0};  // workers still busy with the current loop
   std::atomic<bool> stopping_{false};
+  std::exception_ptr error_;  // the first exception thrown by fn in the current loop
 };
 
 }  // namespace flsd

@@ -47,6 +47,12 @@ Env::Env(const mjModel& model, const EnvConfig& config, uint64_t seed)
     throw InputError(config.model + ": option timestep is " + std::to_string(model_->opt.timestep) +
                      " s, but the control convention needs " + std::to_string(a1::kPhysicsDt));
   }
+  const Interval delay = config_.randomization.action_delay.range;
+  if (delay.lo < 0.0 || delay.hi > RandomizationConfig::kMaxActionDelay) {
+    throw InputError("randomization.action_delay.range: expected steps within [0, " +
+                     std::to_string(RandomizationConfig::kMaxActionDelay) + "], got [" + std::to_string(delay.lo) +
+                     ", " + std::to_string(delay.hi) + "]");
+  }
   nominal_body_mass_.assign(model_->body_mass, model_->body_mass + model_->nbody);
   nominal_body_inertia_.assign(model_->body_inertia, model_->body_inertia + 3 * model_->nbody);
   push_interval_steps_ =
@@ -135,8 +141,11 @@ Termination Env::Step(const float* action) {
                       d.qvel[index_.qvel[j]], 0.0, randomization_.motor_strength[j]);
     }
     mj_step(model_.get(), data_.get());
-    // MuJoCo resets the state itself after a bad acceleration; the episode is void.
-    if (d.warning[mjWARN_BADQACC].number > 0) return Termination::kPhysics;
+    // MuJoCo resets the data itself after a non-finite or huge position, velocity or
+    // acceleration; the episode is void.
+    if (d.warning[mjWARN_BADQACC].number + d.warning[mjWARN_BADQPOS].number + d.warning[mjWARN_BADQVEL].number > 0) {
+      return Termination::kPhysics;
+    }
   }
   ++episode_step_;
 
@@ -197,10 +206,6 @@ void Env::ReadState() {
 }
 
 Termination Env::CheckTermination() const {
-  const mjData& d = *data_;
-  for (int i = 0; i < model_->nq; ++i) {
-    if (!std::isfinite(d.qpos[i])) return Termination::kPhysics;
-  }
   const TerminationConfig& c = config_.termination;
   if (body_contact_ || (c.on_calf_contact && calf_contact_)) return Termination::kBodyContact;
   if (state_.ProjectedGravity().z() > -std::cos(c.max_tilt)) return Termination::kTilt;

@@ -50,7 +50,8 @@ class Env {
   // Advances one control step with policy action `action` (12 floats): joint targets
   // q* = q_default + 0.25 a (after the drawn action delay), torque Kp (q* - q) - Kd qdot scaled by
   // the motor strength and clipped to +-33.5 N m, recomputed at each of the 4 physics steps.
-  // Returns why the episode ended, or kNone. The env does not reset itself.
+  // Returns why the episode ended, or kNone. The env does not reset itself. After kPhysics,
+  // state() still holds the last valid state (MuJoCo has already reset its data).
   Termination Step(const float* action);
 
   const RobotState& state() const { return state_; }

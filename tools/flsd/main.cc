@@ -3,11 +3,19 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 
 #include "bench/sim_bench.h"
 #include "core/check.h"
+#include "skills/learning/training_run.h"
 #include "tools/flsd/sim_demo.h"
+
+namespace {
+std::atomic<bool> g_stop{false};
+void RequestStop(int) { g_stop = true; }
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"FLSD: Fourier Latent Skill Discovery for the Unitree A1"};
@@ -18,6 +26,16 @@ int main(int argc, char** argv) {
   demo_cmd->add_option("--stand-seconds", demo.stand_seconds, "Length of the standing phase")->check(CLI::Range(0.02, 3600.0));
   demo_cmd->add_option("--random-seconds", demo.random_seconds, "Length of the random-target phase")->check(CLI::Range(0.02, 3600.0));
   demo_cmd->add_option("--seed", demo.seed, "Random seed");
+
+  flsd::TrainingRunOptions train;
+  CLI::App* train_cmd = app.add_subcommand("train", "Train skills with FLSD (Algorithm 1) or the DIAYN baseline");
+  train_cmd->add_option("--config", train.config_path, "Training config (configs/*.yaml)");
+  train_cmd->add_option("--method", train.method, "flsd or diayn (default: the config's)")
+      ->check(CLI::IsMember({"flsd", "diayn"}));
+  train_cmd->add_option("--out", train.run_dir, "Run folder (config.yaml, checkpoint.pt, progress.csv)")->required();
+  train_cmd->add_flag("--resume", train.resume, "Continue the run in --out from its checkpoint");
+  train_cmd->add_option("--iterations", train.iterations, "Train until this many iterations in total")
+      ->check(CLI::Range(1, 100000000));
 
   CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks that print JSON");
   bench_cmd->require_subcommand(1);
@@ -34,6 +52,13 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (*demo_cmd) return flsd::RunSimDemo(demo);
+    if (*train_cmd) {
+      if (!train.resume && train.config_path.empty()) throw flsd::InputError("train: --config is required for a new run");
+      // Ctrl-C or a scheduler's SIGTERM ends the iteration in progress, then checkpoints.
+      std::signal(SIGINT, RequestStop);
+      std::signal(SIGTERM, RequestStop);
+      return flsd::RunTraining(train, g_stop);
+    }
     if (*sim_cmd) {
       std::printf("%s\n", flsd::RunSimBenchmark(sim).dump(2).c_str());
       return 0;

@@ -1,0 +1,47 @@
+#pragma once
+// The skill discriminator q(k | o^d) of Eqs. 10-12.
+
+#include <torch/torch.h>
+
+#include <vector>
+
+#include "core/config.h"
+
+namespace flsd {
+
+struct DiscriminatorConfig {
+  std::vector<int> hidden{128, 128};
+  double learning_rate = 1e-4;  // Adam, as ETH D3's DIAYN discriminator
+  int epochs = 1;
+  int minibatch_size = 1024;
+  template <class V>
+  void Visit(V& v) {
+    v("hidden", hidden, Bounds<int>{1, 4096});
+    v("learning_rate", learning_rate, Bounds<double>{0.0, 1.0});
+    v("epochs", epochs, Bounds<int>{0, 1000});
+    v("minibatch_size", minibatch_size, Bounds<int>{1, 1 << 20});
+  }
+};
+
+class DiscriminatorImpl : public torch::nn::Module {
+ public:
+  DiscriminatorImpl(int inputs, int num_skills, const DiscriminatorConfig& config);
+  // log q(k | o^d) for every k: [B, N_k].
+  torch::Tensor LogProbs(const torch::Tensor& observations) {
+    return torch::log_softmax(mlp_->forward(observations), -1);
+  }
+  int num_skills() const { return num_skills_; }
+
+ private:
+  torch::nn::Sequential mlp_{nullptr};
+  int num_skills_;
+};
+TORCH_MODULE(Discriminator);
+
+// Eq. 11: log q(k | o^d) - log p(k) with uniform p(k) = 1 / N_k, for skills [B] (int64).
+torch::Tensor IntrinsicReward(const torch::Tensor& log_probs, const torch::Tensor& skills);
+
+// Eq. 12: the negative log-likelihood -E[log q(k | o^d)].
+torch::Tensor DiscriminatorLoss(const torch::Tensor& log_probs, const torch::Tensor& skills);
+
+}  // namespace flsd

@@ -1,0 +1,41 @@
+#include "skills/learning/normalizer.h"
+
+#include "core/check.h"
+
+namespace flsd {
+namespace {
+constexpr double kEps = 1e-8;
+}
+
+RunningNormalizerImpl::RunningNormalizerImpl(int size) {
+  mean_ = register_buffer("mean", torch::zeros({size}, torch::kFloat64));
+  variance_ = register_buffer("variance", torch::ones({size}, torch::kFloat64));
+  count_ = register_buffer("count", torch::zeros({}, torch::kFloat64));
+}
+
+void RunningNormalizerImpl::Update(const torch::Tensor& batch) {
+  FLSD_DEMAND(batch.dim() == 2 && batch.size(1) == mean_.size(0));
+  if (batch.size(0) == 0) return;
+  const torch::Tensor x = batch.to(torch::kFloat64);
+  Merge(static_cast<double>(x.size(0)), x.mean(0), x.var(0, /*unbiased=*/false));
+}
+
+void RunningNormalizerImpl::Merge(double count, const torch::Tensor& mean, const torch::Tensor& variance) {
+  torch::NoGradGuard no_grad;
+  const double n_a = count_.item<double>();
+  const double n = n_a + count;
+  if (count <= 0.0) return;
+  const torch::Tensor delta = mean.to(torch::kFloat64) - mean_;
+  // Population variance of the union: within-group sums of squares plus the between-group term.
+  const torch::Tensor m2 = variance_ * n_a + variance.to(torch::kFloat64) * count +
+                           delta.pow(2) * (n_a * count / n);
+  mean_.add_(delta * (count / n));
+  variance_.copy_(m2 / n);
+  count_.fill_(n);
+}
+
+torch::Tensor RunningNormalizerImpl::Normalize(const torch::Tensor& x) const {
+  return ((x.to(torch::kFloat64) - mean_) / torch::sqrt(variance_ + kEps)).to(torch::kFloat32);
+}
+
+}  // namespace flsd

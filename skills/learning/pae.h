@@ -1,0 +1,86 @@
+#pragma once
+// The Periodic Autoencoder of the paper's Sec. III-A (Eqs. 2-8), after DeepPhase (Starke et al.
+// 2022) and FLD (Li et al. 2024): a temporal-convolution encoder maps a window of motion
+// observations [C x H] to D latent curves; a differentiable Fourier layer reads each curve's
+// frequency F, amplitude A and offset B; a per-channel linear layer reads its phase Phi; each
+// curve is replaced by the sinusoid A sin(2 pi (F T + Phi)) + B, which the decoder maps back.
+// The phase manifold P (Eq. 8), 2D values, is what the discriminator sees.
+
+#include <torch/torch.h>
+
+#include "core/config.h"
+
+namespace flsd {
+
+struct PaeConfig {
+  int latent_channels = 8;    // D; FLD uses 8
+  int hidden_channels = 16;   // encoder/decoder width; DeepPhase uses C/3, FLD 64
+  int kernel_size = 15;       // temporal kernel (odd); DeepPhase and FLD use H
+  double learning_rate = 1e-4;  // AdamW, as DeepPhase
+  double weight_decay = 1e-4;
+  int epochs = 1;             // passes over the sampled windows per iteration
+  int minibatch_size = 512;
+  double sample_fraction = 0.25;  // share of an iteration's windows the PAE trains on
+  template <class V>
+  void Visit(V& v) {
+    v("latent_channels", latent_channels, Bounds<int>{1, 64});
+    v("hidden_channels", hidden_channels, Bounds<int>{1, 1024});
+    v("kernel_size", kernel_size, Bounds<int>{1, 1001});
+    v("learning_rate", learning_rate, Bounds<double>{0.0, 1.0});
+    v("weight_decay", weight_decay, Bounds<double>{0.0, 1.0});
+    v("epochs", epochs, Bounds<int>{0, 1000});
+    v("minibatch_size", minibatch_size, Bounds<int>{1, 1 << 20});
+    v("sample_fraction", sample_fraction, Bounds<double>{0.0, 1.0});
+  }
+};
+
+// Every intermediate of one PAE pass over a batch of windows [B, C, H].
+struct PaeOutput {
+  torch::Tensor latent;          // z, [B, D, H]
+  torch::Tensor frequency;       // F, [B, D], Hz
+  torch::Tensor amplitude;       // A, [B, D]
+  torch::Tensor offset;          // B, [B, D]
+  torch::Tensor phase;           // Phi, [B, D], cycles in (-0.5, 0.5]
+  torch::Tensor latent_signal;   // z^ = A sin(2 pi (F T + Phi)) + B, [B, D, H]
+  torch::Tensor reconstruction;  // o^H^, [B, C, H]
+  torch::Tensor manifold;        // P, [B, 2D]: (A cos a, A sin a) per channel, Eq. 8
+};
+
+// F, A and B of each latent curve (Eqs. 5-6); z is [B, D, H] sampled at sample_rate_hz.
+struct FourierParameters {
+  torch::Tensor frequency, amplitude, offset;
+};
+FourierParameters ComputeFourierParameters(const torch::Tensor& z, double sample_rate_hz);
+
+class PeriodicAutoencoderImpl : public torch::nn::Module {
+ public:
+  // input_channels C (33 for o^m), window H (51), sample rate (50 Hz).
+  PeriodicAutoencoderImpl(int input_channels, int window, double sample_rate_hz, const PaeConfig& config);
+
+  PaeOutput Forward(const torch::Tensor& windows);
+  // Encoder, Fourier layer and phase only: the manifold P [B, 2D], for rewards.
+  torch::Tensor Manifold(const torch::Tensor& windows);
+  // Eq. 3: ||o^H - o^H^||^2 / H, averaged over the batch.
+  torch::Tensor Loss(const torch::Tensor& windows, const PaeOutput& out) const;
+
+  int window() const { return window_; }
+  int latent_channels() const { return latent_channels_; }
+  // The centred time window T (Sec. III-A): H times from -dt/2 to dt/2, dt = (H - 1) / rate.
+  const torch::Tensor& time_window() const { return time_window_; }
+
+ private:
+  torch::Tensor Encode(const torch::Tensor& windows);
+  torch::Tensor Phase(const torch::Tensor& z);  // Eq. 7
+  torch::Tensor ManifoldOf(const FourierParameters& f, const torch::Tensor& phase) const;  // Eq. 8
+
+  int window_;
+  int latent_channels_;
+  double sample_rate_hz_;
+  torch::nn::Conv1d encoder1_{nullptr}, encoder2_{nullptr}, decoder1_{nullptr}, decoder2_{nullptr};
+  torch::Tensor encoder_norm_weight_, encoder_norm_bias_, decoder_norm_weight_, decoder_norm_bias_;
+  torch::Tensor phase_weight_, phase_bias_;  // one Linear(H -> 2) per channel: [D, 2, H], [D, 2]
+  torch::Tensor time_window_;
+};
+TORCH_MODULE(PeriodicAutoencoder);
+
+}  // namespace flsd

@@ -1,0 +1,124 @@
+#include "skills/learning/ppo.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace flsd {
+namespace {
+
+torch::Tensor Flat(const torch::Tensor& x) {
+  return x.dim() == 2 ? x.reshape({-1}) : x.reshape({-1, x.size(-1)});
+}
+
+}  // namespace
+
+Returns ComputeReturns(const Rollout& r, const torch::Tensor& last_values, double gamma, double lambda) {
+  torch::NoGradGuard no_grad;
+  const int64_t steps = r.rewards.size(0);
+  const torch::Tensor rewards = r.rewards + gamma * r.values * r.timeouts;
+  Returns out;
+  out.returns = torch::empty_like(rewards);
+  torch::Tensor advantage = torch::zeros_like(last_values);
+  torch::Tensor next_value = last_values;
+  for (int64_t t = steps - 1; t >= 0; --t) {
+    const torch::Tensor not_done = 1.0 - r.dones[t];
+    const torch::Tensor delta = rewards[t] + gamma * next_value * not_done - r.values[t];
+    advantage = delta + gamma * lambda * not_done * advantage;
+    out.returns[t] = advantage + r.values[t];
+    next_value = r.values[t];
+  }
+  const torch::Tensor raw = out.returns - r.values;
+  out.advantages = (raw - raw.mean()) / (raw.std() + 1e-8);
+  return out;
+}
+
+Ppo::Ppo(ActorCritic policy, const PpoConfig& config)
+    : policy_(std::move(policy)),
+      config_(config),
+      optimizer_(policy_->parameters(), torch::optim::AdamOptions(config.learning_rate)),
+      learning_rate_(config.learning_rate) {}
+
+void Ppo::set_learning_rate(double lr) {
+  learning_rate_ = lr;
+  for (auto& group : optimizer_.param_groups()) {
+    static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+  }
+}
+
+PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
+  const torch::Tensor obs = Flat(rollout.obs), critic_obs = Flat(rollout.critic_obs);
+  const torch::Tensor actions = Flat(rollout.actions), old_means = Flat(rollout.means);
+  const torch::Tensor old_log_probs = Flat(rollout.log_probs), old_values = Flat(rollout.values);
+  const torch::Tensor target = Flat(returns.returns), advantages = Flat(returns.advantages);
+  const torch::Tensor old_std = rollout.action_std;
+  const int64_t batch = obs.size(0);
+  const int64_t minibatch = std::max<int64_t>(1, batch / config_.minibatches);
+
+  PpoStats stats;
+  int updates = 0;
+  for (int epoch = 0; epoch < config_.epochs; ++epoch) {
+    const torch::Tensor order = torch::randperm(batch, torch::kLong);
+    for (int64_t begin = 0; begin + minibatch <= batch; begin += minibatch) {
+      const torch::Tensor idx = order.slice(0, begin, begin + minibatch);
+      const torch::Tensor mean = policy_->ActionMean(obs.index_select(0, idx));
+      const torch::Tensor value = policy_->Value(critic_obs.index_select(0, idx));
+      const torch::Tensor std = policy_->Std();
+      const torch::Tensor mb_old_means = old_means.index_select(0, idx);
+
+      if (config_.adaptive_learning_rate) {
+        torch::NoGradGuard no_grad;
+        // KL(old || new) of diagonal Gaussians, per sample, averaged.
+        const torch::Tensor kl = (torch::log(std / old_std) +
+                                  (old_std.pow(2) + (mb_old_means - mean).pow(2)) / (2.0 * std.pow(2)) - 0.5)
+                                     .sum(-1)
+                                     .mean();
+        const double kl_value = kl.item<double>();
+        stats.kl += kl_value;
+        if (kl_value > 2.0 * config_.desired_kl) {
+          set_learning_rate(std::max(1e-5, learning_rate_ / 1.5));
+        } else if (kl_value > 0.0 && kl_value < 0.5 * config_.desired_kl) {
+          set_learning_rate(std::min(1e-2, learning_rate_ * 1.5));
+        }
+      }
+
+      const torch::Tensor log_prob = policy_->LogProb(mean, actions.index_select(0, idx));
+      const torch::Tensor ratio = torch::exp(log_prob - old_log_probs.index_select(0, idx));
+      const torch::Tensor adv = advantages.index_select(0, idx);
+      const torch::Tensor surrogate =
+          torch::max(-adv * ratio, -adv * torch::clamp(ratio, 1.0 - config_.clip, 1.0 + config_.clip)).mean();
+      const torch::Tensor mb_old_values = old_values.index_select(0, idx);
+      const torch::Tensor mb_target = target.index_select(0, idx);
+      const torch::Tensor value_clipped =
+          mb_old_values + torch::clamp(value - mb_old_values, -config_.clip, config_.clip);
+      const torch::Tensor value_loss =
+          torch::max((value - mb_target).pow(2), (value_clipped - mb_target).pow(2)).mean();
+      const torch::Tensor entropy = policy_->Entropy();
+      const torch::Tensor loss =
+          surrogate + config_.value_coef * value_loss - config_.entropy_coef * entropy;
+
+      if (!torch::isfinite(loss).item<bool>()) {
+        stats.finite = false;
+        return stats;
+      }
+      optimizer_.zero_grad();
+      loss.backward();
+      torch::nn::utils::clip_grad_norm_(policy_->parameters(), config_.max_grad_norm);
+      optimizer_.step();
+
+      stats.surrogate_loss += surrogate.item<double>();
+      stats.value_loss += value_loss.item<double>();
+      stats.entropy += entropy.item<double>();
+      ++updates;
+    }
+  }
+  if (updates > 0) {
+    stats.surrogate_loss /= updates;
+    stats.value_loss /= updates;
+    stats.entropy /= updates;
+    stats.kl /= updates;
+  }
+  stats.learning_rate = learning_rate_;
+  return stats;
+}
+
+}  // namespace flsd

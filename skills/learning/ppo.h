@@ -1,0 +1,93 @@
+#pragma once
+// Proximal Policy Optimisation as rsl_rl v1.0.2 does it (shared/facts, Sec. 2): clipped
+// surrogate, clipped value loss, entropy bonus, GAE(lambda) with a time-out bootstrap,
+// advantages normalised over the whole batch, gradient-norm clipping, and a learning rate adapted
+// from the KL divergence between the collecting and the updated policy.
+
+#include <torch/torch.h>
+
+#include "core/config.h"
+#include "skills/learning/actor_critic.h"
+
+namespace flsd {
+
+struct PpoConfig {
+  int epochs = 5;
+  int minibatches = 4;
+  double clip = 0.2;
+  double value_coef = 1.0;
+  double entropy_coef = 0.01;
+  double learning_rate = 1e-3;
+  bool adaptive_learning_rate = true;
+  double desired_kl = 0.01;
+  double gamma = 0.99;
+  double lambda = 0.95;
+  double max_grad_norm = 1.0;
+  template <class V>
+  void Visit(V& v) {
+    v("epochs", epochs, Bounds<int>{1, 100});
+    v("minibatches", minibatches, Bounds<int>{1, 1024});
+    v("clip", clip, Bounds<double>{0.0, 1.0});
+    v("value_coef", value_coef, Bounds<double>{0.0, 100.0});
+    v("entropy_coef", entropy_coef, Bounds<double>{0.0, 10.0});
+    v("learning_rate", learning_rate, Bounds<double>{1e-7, 1.0});
+    v("adaptive_learning_rate", adaptive_learning_rate);
+    v("desired_kl", desired_kl, Bounds<double>{1e-5, 1.0});
+    v("gamma", gamma, Bounds<double>{0.0, 1.0});
+    v("lambda", lambda, Bounds<double>{0.0, 1.0});
+    v("max_grad_norm", max_grad_norm, Bounds<double>{0.0, 1000.0});
+  }
+};
+
+// One iteration's transitions; tensors are [T, N, ...] (steps x envs).
+struct Rollout {
+  torch::Tensor obs;         // normalised policy observations
+  torch::Tensor critic_obs;  // critic observations
+  torch::Tensor actions;
+  torch::Tensor log_probs;   // [T, N]
+  torch::Tensor values;      // [T, N]
+  torch::Tensor means;       // [T, N, A]
+  torch::Tensor rewards;     // [T, N]
+  torch::Tensor dones;       // [T, N], 1 where the episode ended after step t (time-outs too)
+  torch::Tensor timeouts;    // [T, N], 1 where it ended by time-out
+  torch::Tensor action_std;  // [A], the policy's std while collecting
+};
+
+struct Returns {
+  torch::Tensor returns;     // [T, N]
+  torch::Tensor advantages;  // [T, N], normalised over the batch
+};
+
+// GAE(lambda) returns and advantages; last_values [N] are V of the observations after the last
+// step. On a time-out, gamma V(s_t) is added to r_t, as rsl_rl does, since the episode did not
+// really end there.
+Returns ComputeReturns(const Rollout& rollout, const torch::Tensor& last_values, double gamma, double lambda);
+
+struct PpoStats {
+  double surrogate_loss = 0.0;
+  double value_loss = 0.0;
+  double entropy = 0.0;
+  double kl = 0.0;
+  double learning_rate = 0.0;
+  bool finite = true;  // false when a loss turned NaN or infinite; no step was taken then
+};
+
+class Ppo {
+ public:
+  Ppo(ActorCritic policy, const PpoConfig& config);
+
+  PpoStats Update(const Rollout& rollout, const Returns& returns);
+
+  torch::optim::Adam& optimizer() { return optimizer_; }
+  const torch::optim::Adam& optimizer() const { return optimizer_; }
+  double learning_rate() const { return learning_rate_; }
+  void set_learning_rate(double lr);
+
+ private:
+  ActorCritic policy_;
+  PpoConfig config_;
+  torch::optim::Adam optimizer_;
+  double learning_rate_;
+};
+
+}  // namespace flsd

@@ -1,0 +1,36 @@
+#include "skills/learning/train_config.h"
+
+namespace flsd {
+
+Method ParseMethod(const std::string& name) {
+  if (name == "flsd") return Method::kFlsd;
+  if (name == "diayn") return Method::kDiayn;
+  throw InputError("method: expected 'flsd' or 'diayn', got '" + name + "'");
+}
+
+const char* ToString(Method m) { return m == Method::kFlsd ? "flsd" : "diayn"; }
+
+void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
+  try {
+    ParseMethod(config.method);
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  if (config.pae.kernel_size % 2 == 0) {
+    throw InputError(where + ": pae.kernel_size: expected an odd number, got " +
+                     std::to_string(config.pae.kernel_size));
+  }
+  if (config.window % 2 == 0) {
+    throw InputError(where + ": window: expected an odd number of frames (the paper's H = 51), got " +
+                     std::to_string(config.window));
+  }
+}
+
+TrainConfig LoadTrainConfig(const std::string& path) {
+  TrainConfig config;
+  ReadConfig(LoadYamlFile(path), path + ":", config);
+  ValidateTrainConfig(config, path);
+  return config;
+}
+
+}  // namespace flsd

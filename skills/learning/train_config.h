@@ -1,0 +1,65 @@
+#pragma once
+// Everything a training run is configured by, read from one YAML file (configs/flsd_*.yaml).
+
+#include <string>
+
+#include "core/config.h"
+#include "sim/env_config.h"
+#include "skills/learning/actor_critic.h"
+#include "skills/learning/discriminator.h"
+#include "skills/learning/pae.h"
+#include "skills/learning/ppo.h"
+
+namespace flsd {
+
+// What the discriminator sees: FLSD's phase manifold (Eq. 13) or DIAYN's raw motion state.
+enum class Method { kFlsd, kDiayn };
+Method ParseMethod(const std::string& name);  // "flsd" or "diayn"; throws InputError otherwise
+const char* ToString(Method m);
+
+struct TrainConfig {
+  std::string method = "flsd";
+  int seed = 1;
+  int num_envs = 64;
+  int num_threads = 0;  // 0: every core
+  int steps_per_env = 48;
+  int iterations = 1000;
+  int num_skills = 16;  // N_k
+  int window = 51;      // H: 1 s of motion at 50 Hz
+  // legged_gym's only_positive_rewards: a negative reward would make falling early attractive.
+  bool only_positive_rewards = true;
+  double critic_position_scale = 0.25;  // the critic also sees q_xy, x this (1/m)
+  int checkpoint_every = 25;            // iterations
+  EnvConfig env;
+  PolicyConfig policy;
+  PpoConfig ppo;
+  PaeConfig pae;
+  DiscriminatorConfig discriminator;
+
+  template <class V>
+  void Visit(V& v) {
+    v("method", method);
+    v("seed", seed, Bounds<int>{0, 2147483647});
+    v("num_envs", num_envs, Bounds<int>{1, 1000000});
+    v("num_threads", num_threads, Bounds<int>{0, 1024});
+    v("steps_per_env", steps_per_env, Bounds<int>{1, 100000});
+    v("iterations", iterations, Bounds<int>{1, 100000000});
+    v("num_skills", num_skills, Bounds<int>{2, 10000});
+    v("window", window, Bounds<int>{3, 1001});
+    v("only_positive_rewards", only_positive_rewards);
+    v("critic_position_scale", critic_position_scale, Bounds<double>{0.0, 100.0});
+    v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
+    v("env", env);
+    v("policy", policy);
+    v("ppo", ppo);
+    v("pae", pae);
+    v("discriminator", discriminator);
+  }
+};
+
+// Reads and checks a whole training config file (unknown keys and bad values are errors).
+TrainConfig LoadTrainConfig(const std::string& path);
+// The same checks for a config built in code or parsed from a checkpoint.
+void ValidateTrainConfig(const TrainConfig& config, const std::string& where);
+
+}  // namespace flsd

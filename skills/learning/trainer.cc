@@ -1,0 +1,382 @@
+#include "skills/learning/trainer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/check.h"
+#include "robot/observation.h"
+
+namespace flsd {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// The policy normaliser covers o^m and the previous action; the one-hot skill stays as it is.
+constexpr int kNormalizedObs = kMotionObsSize + kActionSize;
+// Windows pass through the PAE for rewards in chunks of this many.
+constexpr int64_t kRewardChunk = 4096;
+
+int DiscriminatorInputs(Method method, const PaeConfig& pae) {
+  return 2 + (method == Method::kFlsd ? 2 * pae.latent_channels : kMotionObsSize);
+}
+
+int Threads(int configured) {
+  return configured > 0 ? configured : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
+
+}  // namespace
+
+Trainer::Trainer(const TrainConfig& config)
+    : config_(config),
+      method_(ParseMethod(config.method)),
+      num_envs_(config.num_envs),
+      steps_(config.steps_per_env),
+      policy_obs_size_(PolicyObservationSize(config.num_skills)),
+      critic_obs_size_(PolicyObservationSize(config.num_skills) + 2),
+      vec_(config.env, config.num_envs, config.seed, Threads(config.num_threads)),
+      policy_(policy_obs_size_, critic_obs_size_, kActionSize, config.policy),
+      normalizer_(kNormalizedObs),
+      pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
+      discriminator_(DiscriminatorInputs(method_, config.pae), config.num_skills, config.discriminator),
+      ppo_(policy_, config.ppo),
+      pae_optimizer_(pae_->parameters(),
+                     torch::optim::AdamWOptions(config.pae.learning_rate).weight_decay(config.pae.weight_decay)),
+      discriminator_optimizer_(discriminator_->parameters(),
+                               torch::optim::AdamOptions(config.discriminator.learning_rate)) {
+  ValidateTrainConfig(config, "training config");
+  torch::manual_seed(config.seed);
+  const int n = num_envs_, t = steps_;
+  skill_.resize(n);
+  previous_action_.assign(n * kActionSize, 0.0f);
+  episode_length_.assign(n, 0);
+  ended_.assign(n, 0);
+  ended_length_sum_.assign(n, 0);
+  ended_falls_.assign(n, 0);
+  for (int i = 0; i < n; ++i) {
+    skill_rng_.emplace_back(StreamSeed(config.seed + 1000003ULL, i));
+    skill_[i] = std::uniform_int_distribution<int>(0, config.num_skills - 1)(skill_rng_[i]);
+    history_.emplace_back(config.window);
+    history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
+  }
+  const auto f = torch::kFloat32;
+  rollout_.obs = torch::zeros({t, n, policy_obs_size_}, f);
+  rollout_.critic_obs = torch::zeros({t, n, critic_obs_size_}, f);
+  rollout_.actions = torch::zeros({t, n, kActionSize}, f);
+  rollout_.means = torch::zeros({t, n, kActionSize}, f);
+  rollout_.log_probs = torch::zeros({t, n}, f);
+  rollout_.values = torch::zeros({t, n}, f);
+  rollout_.rewards = torch::zeros({t, n}, f);
+  rollout_.dones = torch::zeros({t, n}, f);
+  rollout_.timeouts = torch::zeros({t, n}, f);
+  raw_obs_ = torch::zeros({n, policy_obs_size_}, f);
+  if (method_ == Method::kFlsd) windows_ = torch::zeros({t, n, kMotionObsSize, config.window}, f);
+  next_motion_ = torch::zeros({t, n, kMotionObsSize}, f);
+  next_position_ = torch::zeros({t, n, 2}, f);
+  skills_ = torch::zeros({t, n}, torch::kLong);
+}
+
+torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
+  float* raw = raw_obs_.data_ptr<float>();
+  for (int i = 0; i < num_envs_; ++i) {
+    BuildPolicyObservation(vec_.motion_obs() + i * kMotionObsSize, &previous_action_[i * kActionSize],
+                           skill_[i], config_.num_skills, raw + i * policy_obs_size_);
+  }
+  const torch::Tensor normalized_part = raw_obs_.slice(1, 0, kNormalizedObs);
+  if (update_normalizer) normalizer_->Update(normalized_part);
+  return torch::cat({normalizer_->Normalize(normalized_part), raw_obs_.slice(1, kNormalizedObs)}, 1);
+}
+
+torch::Tensor Trainer::CriticObservations(const torch::Tensor& obs, const float* positions) const {
+  const torch::Tensor xy =
+      torch::from_blob(const_cast<float*>(positions), {num_envs_, 3}).slice(1, 0, 2) * config_.critic_position_scale;
+  return torch::cat({obs, xy}, 1);
+}
+
+void Trainer::CollectRollout(IterationStats& stats) {
+  torch::NoGradGuard no_grad;
+  std::fill(ended_.begin(), ended_.end(), 0);
+  std::fill(ended_length_sum_.begin(), ended_length_sum_.end(), 0);
+  std::fill(ended_falls_.begin(), ended_falls_.end(), 0);
+  for (int t = 0; t < steps_; ++t) {
+    Clock::time_point start = Clock::now();
+    const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/true);
+    const torch::Tensor critic_obs = CriticObservations(obs, vec_.position());
+    const torch::Tensor mean = policy_->ActionMean(obs);
+    const torch::Tensor action = (mean + policy_->Std() * torch::randn_like(mean)).contiguous();
+    rollout_.obs[t].copy_(obs);
+    rollout_.critic_obs[t].copy_(critic_obs);
+    rollout_.actions[t].copy_(action);
+    rollout_.means[t].copy_(mean);
+    rollout_.log_probs[t].copy_(policy_->LogProb(mean, action));
+    rollout_.values[t].copy_(policy_->Value(critic_obs));
+    std::copy(skill_.begin(), skill_.end(), skills_[t].data_ptr<int64_t>());
+    stats.seconds_policy += Since(start);
+
+    start = Clock::now();
+    vec_.Step(action.data_ptr<float>());
+    stats.seconds_physics += Since(start);
+
+    start = Clock::now();
+    AfterStep(t, action.data_ptr<float>());
+    stats.seconds_bookkeeping += Since(start);
+  }
+  const Clock::time_point start = Clock::now();
+  const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/false);
+  last_values_ = policy_->Value(CriticObservations(obs, vec_.position()));
+  rollout_.action_std = policy_->Std().detach().clone();
+  stats.seconds_policy += Since(start);
+
+  long episodes = 0, length_sum = 0, falls = 0;
+  for (int i = 0; i < num_envs_; ++i) {
+    episodes += ended_[i];
+    length_sum += ended_length_sum_[i];
+    falls += ended_falls_[i];
+  }
+  stats.episodes_ended = static_cast<int>(episodes);
+  stats.mean_episode_length = episodes > 0 ? double(length_sum) / episodes : 0.0;
+  stats.fall_fraction = episodes > 0 ? double(falls) / episodes : 0.0;
+}
+
+void Trainer::AfterStep(int t, const float* actions) {
+  const int n = num_envs_;
+  const int window_floats = kMotionObsSize * config_.window;
+  float* windows = method_ == Method::kFlsd ? windows_[t].data_ptr<float>() : nullptr;
+  float* next_motion = next_motion_[t].data_ptr<float>();
+  float* next_position = next_position_[t].data_ptr<float>();
+  float* dones = rollout_.dones[t].data_ptr<float>();
+  float* timeouts = rollout_.timeouts[t].data_ptr<float>();
+  vec_.pool().ParallelFor(n, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Termination ending = vec_.termination()[i];
+      const bool done = ending != Termination::kNone;
+      // o^m_{t+1} and q_{t+1}: the final state of an episode that just ended, not the reset one.
+      const float* next = (done ? vec_.terminal_motion_obs() : vec_.motion_obs()) + i * kMotionObsSize;
+      const float* position = (done ? vec_.terminal_position() : vec_.position()) + i * 3;
+      if (windows != nullptr) history_[i].WriteWindow(next, windows + i * window_floats);
+      std::copy(next, next + kMotionObsSize, next_motion + i * kMotionObsSize);
+      next_position[2 * i] = position[0];
+      next_position[2 * i + 1] = position[1];
+      dones[i] = done ? 1.0f : 0.0f;
+      timeouts[i] = ending == Termination::kTimeOut ? 1.0f : 0.0f;
+      ++episode_length_[i];
+      float* previous = &previous_action_[i * kActionSize];
+      if (done) {
+        ++ended_[i];
+        ended_length_sum_[i] += episode_length_[i];
+        ended_falls_[i] += IsFailure(ending);
+        episode_length_[i] = 0;
+        // A new episode: a new skill drawn from the uniform prior, a fresh motion history.
+        skill_[i] = std::uniform_int_distribution<int>(0, config_.num_skills - 1)(skill_rng_[i]);
+        std::fill(previous, previous + kActionSize, 0.0f);
+        history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
+      } else {
+        history_[i].Push(next);
+        std::copy(actions + i * kActionSize, actions + (i + 1) * kActionSize, previous);
+      }
+    }
+  });
+}
+
+void Trainer::ComputeRewards(IterationStats& stats) {
+  torch::NoGradGuard no_grad;
+  const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
+  const torch::Tensor positions = next_position_.view({count, 2});
+  torch::Tensor features;
+  if (method_ == Method::kFlsd) {
+    // Eq. 13: o^d = [q, P], P the phase manifold of the window ending at t + 1.
+    const torch::Tensor windows = windows_.view({count, kMotionObsSize, config_.window});
+    std::vector<torch::Tensor> parts;
+    for (int64_t begin = 0; begin < count; begin += kRewardChunk) {
+      parts.push_back(pae_->Manifold(windows.slice(0, begin, std::min(count, begin + kRewardChunk))));
+    }
+    features = torch::cat(parts, 0);
+  } else {
+    // DIAYN: o^d = [q, o^m].
+    features = next_motion_.view({count, kMotionObsSize});
+  }
+  discriminator_obs_ = torch::cat({positions, features}, 1);
+  const torch::Tensor skills = skills_.view({count});
+  const torch::Tensor log_probs = discriminator_->LogProbs(discriminator_obs_);
+  const torch::Tensor reward = IntrinsicReward(log_probs, skills);
+  stats.intrinsic_reward = reward.mean().item<double>();
+  stats.discriminator_accuracy = (log_probs.argmax(1) == skills).to(torch::kFloat32).mean().item<double>();
+  rollout_.rewards.copy_((config_.only_positive_rewards ? reward.clamp_min(0.0) : reward).view({steps_, num_envs_}));
+}
+
+double Trainer::UpdatePae() {
+  const PaeConfig& c = config_.pae;
+  const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
+  const int64_t sampled = std::max<int64_t>(1, std::llround(c.sample_fraction * count));
+  const torch::Tensor windows = windows_.view({count, kMotionObsSize, config_.window});
+  const torch::Tensor chosen = torch::randperm(count, torch::kLong).slice(0, 0, sampled);
+  double loss_sum = 0.0;
+  int updates = 0;
+  for (int epoch = 0; epoch < c.epochs; ++epoch) {
+    const torch::Tensor order = chosen.index_select(0, torch::randperm(sampled, torch::kLong));
+    for (int64_t begin = 0; begin < sampled; begin += c.minibatch_size) {
+      const torch::Tensor x = windows.index_select(0, order.slice(0, begin, std::min(sampled, begin + c.minibatch_size)));
+      const torch::Tensor loss = pae_->Loss(x, pae_->Forward(x));
+      if (!Finite(loss)) return NAN;
+      pae_optimizer_.zero_grad();
+      loss.backward();
+      pae_optimizer_.step();
+      loss_sum += loss.item<double>();
+      ++updates;
+    }
+  }
+  return updates > 0 ? loss_sum / updates : 0.0;
+}
+
+double Trainer::UpdateDiscriminator() {
+  const DiscriminatorConfig& c = config_.discriminator;
+  const int64_t count = discriminator_obs_.size(0);
+  const torch::Tensor skills = skills_.view({count});
+  double loss_sum = 0.0;
+  int updates = 0;
+  for (int epoch = 0; epoch < c.epochs; ++epoch) {
+    const torch::Tensor order = torch::randperm(count, torch::kLong);
+    for (int64_t begin = 0; begin < count; begin += c.minibatch_size) {
+      const torch::Tensor idx = order.slice(0, begin, std::min(count, begin + c.minibatch_size));
+      // Eq. 12 on (o^d, k) pairs of this rollout.
+      const torch::Tensor loss =
+          DiscriminatorLoss(discriminator_->LogProbs(discriminator_obs_.index_select(0, idx)), skills.index_select(0, idx));
+      if (!Finite(loss)) return NAN;
+      discriminator_optimizer_.zero_grad();
+      loss.backward();
+      discriminator_optimizer_.step();
+      loss_sum += loss.item<double>();
+      ++updates;
+    }
+  }
+  return updates > 0 ? loss_sum / updates : 0.0;
+}
+
+IterationStats Trainer::RunIteration() {
+  IterationStats stats;
+  const Clock::time_point start = Clock::now();
+  CollectRollout(stats);
+
+  Clock::time_point phase = Clock::now();
+  ComputeRewards(stats);
+  stats.seconds_reward = Since(phase);
+
+  phase = Clock::now();
+  stats.ppo = ppo_.Update(rollout_, ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda));
+  stats.seconds_ppo = Since(phase);
+
+  phase = Clock::now();
+  if (method_ == Method::kFlsd) stats.pae_loss = UpdatePae();
+  stats.seconds_pae = Since(phase);
+
+  phase = Clock::now();
+  stats.discriminator_loss = UpdateDiscriminator();
+  stats.seconds_discriminator = Since(phase);
+
+  ++iteration_;
+  env_steps_ += static_cast<long>(steps_) * num_envs_;
+  stats.iteration = iteration_;
+  stats.env_steps = env_steps_;
+  stats.action_std = policy_->Std().mean().item<double>();
+  stats.seconds_total = Since(start);
+  stats.steps_per_s = steps_ * num_envs_ / stats.seconds_total;
+  stats.finite = stats.ppo.finite && std::isfinite(stats.pae_loss) && std::isfinite(stats.discriminator_loss);
+  return stats;
+}
+
+// ---- checkpoints ----
+
+namespace {
+
+std::string RngState(const std::vector<Rng>& rngs) {
+  std::ostringstream out;
+  for (const Rng& r : rngs) out << r << '\n';
+  return out.str();
+}
+
+void RestoreRngState(const std::string& state, std::vector<Rng>& rngs) {
+  std::istringstream in(state);
+  for (Rng& r : rngs) in >> r;
+  if (!in) throw InputError("checkpoint: skill random-number states do not match num_envs");
+}
+
+}  // namespace
+
+void Trainer::SaveCheckpoint(const std::string& path) const {
+  torch::serialize::OutputArchive archive;
+  auto save_module = [&](const char* key, const torch::nn::Module& m) {
+    torch::serialize::OutputArchive sub;
+    m.save(sub);
+    archive.write(key, sub);
+  };
+  auto save_optimizer = [&](const char* key, const torch::optim::Optimizer& o) {
+    torch::serialize::OutputArchive sub;
+    o.save(sub);
+    archive.write(key, sub);
+  };
+  save_module("policy", *policy_);
+  save_module("normalizer", *normalizer_);
+  save_module("pae", *pae_);
+  save_module("discriminator", *discriminator_);
+  save_optimizer("policy_optimizer", ppo_.optimizer());
+  save_optimizer("pae_optimizer", pae_optimizer_);
+  save_optimizer("discriminator_optimizer", discriminator_optimizer_);
+  archive.write("config", c10::IValue(ToYamlString(config_)));
+  archive.write("iteration", c10::IValue(static_cast<int64_t>(iteration_)));
+  archive.write("env_steps", c10::IValue(static_cast<int64_t>(env_steps_)));
+  archive.write("learning_rate", c10::IValue(ppo_.learning_rate()));
+  archive.write("torch_rng", at::detail::getDefaultCPUGenerator().get_state());
+  archive.write("skill_rng", c10::IValue(RngState(skill_rng_)));
+  WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
+}
+
+void Trainer::LoadCheckpoint(const std::string& path) {
+  torch::serialize::InputArchive archive;
+  try {
+    archive.load_from(path);
+  } catch (const c10::Error& e) {
+    throw InputError(path + ": not a readable checkpoint: " + e.what_without_backtrace());
+  }
+  auto load_module = [&](const char* key, torch::nn::Module& m) {
+    torch::serialize::InputArchive sub;
+    archive.read(key, sub);
+    m.load(sub);
+  };
+  auto load_optimizer = [&](const char* key, torch::optim::Optimizer& o) {
+    torch::serialize::InputArchive sub;
+    archive.read(key, sub);
+    o.load(sub);
+  };
+  try {
+    load_module("policy", *policy_);
+    load_module("normalizer", *normalizer_);
+    load_module("pae", *pae_);
+    load_module("discriminator", *discriminator_);
+    load_optimizer("policy_optimizer", ppo_.optimizer());
+    load_optimizer("pae_optimizer", pae_optimizer_);
+    load_optimizer("discriminator_optimizer", discriminator_optimizer_);
+    c10::IValue value;
+    archive.read("iteration", value);
+    iteration_ = static_cast<int>(value.toInt());
+    archive.read("env_steps", value);
+    env_steps_ = static_cast<long>(value.toInt());
+    archive.read("learning_rate", value);
+    ppo_.set_learning_rate(value.toDouble());
+    torch::Tensor torch_rng;
+    archive.read("torch_rng", torch_rng);
+    at::Generator generator = at::detail::getDefaultCPUGenerator();  // a handle to the global one
+    generator.set_state(torch_rng);
+    archive.read("skill_rng", value);
+    RestoreRngState(value.toStringRef(), skill_rng_);
+  } catch (const c10::Error& e) {
+    throw InputError(path + ": checkpoint does not fit this training config (" +
+                     std::string(e.what_without_backtrace()) + ")");
+  }
+}
+
+}  // namespace flsd

@@ -1,0 +1,113 @@
+#pragma once
+// Algorithm 1 of the paper: PPO trains one skill-conditioned policy on the intrinsic reward
+// log q(k | o^d) - log p(k), while the PAE (FLSD only) and the discriminator are trained on the
+// same rollouts.
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include "core/rng.h"
+#include "sim/vec_env.h"
+#include "skills/learning/actor_critic.h"
+#include "skills/learning/discriminator.h"
+#include "skills/learning/motion_history.h"
+#include "skills/learning/normalizer.h"
+#include "skills/learning/pae.h"
+#include "skills/learning/ppo.h"
+#include "skills/learning/train_config.h"
+
+namespace flsd {
+
+// What one iteration did; a row of the run's progress.csv.
+struct IterationStats {
+  int iteration = 0;
+  long env_steps = 0;                 // since the run began
+  double steps_per_s = 0.0;           // env steps over the whole iteration's wall time
+  int episodes_ended = 0;
+  double mean_episode_length = 0.0;   // control steps, of the episodes that ended
+  double fall_fraction = 0.0;         // of the episodes that ended, the share that fell
+  double discriminator_accuracy = 0.0;
+  double intrinsic_reward = 0.0;      // mean of Eq. 11 before any clipping
+  double discriminator_loss = 0.0;
+  double pae_loss = 0.0;
+  double action_std = 0.0;
+  PpoStats ppo;
+  bool finite = true;
+  // Wall seconds spent in each part of the iteration.
+  double seconds_physics = 0.0, seconds_policy = 0.0, seconds_bookkeeping = 0.0,
+         seconds_reward = 0.0, seconds_ppo = 0.0, seconds_pae = 0.0, seconds_discriminator = 0.0,
+         seconds_total = 0.0;
+};
+
+class Trainer {
+ public:
+  explicit Trainer(const TrainConfig& config);
+  Trainer(const Trainer&) = delete;
+  Trainer& operator=(const Trainer&) = delete;
+
+  // One iteration of Algorithm 1: collect a rollout, compute rewards, update PPO, PAE and
+  // discriminator.
+  IterationStats RunIteration();
+
+  // Checkpoints hold the networks, optimisers, normaliser, counters and random states; the file
+  // is written atomically. Loading checks that the shapes match this trainer's config.
+  void SaveCheckpoint(const std::string& path) const;
+  void LoadCheckpoint(const std::string& path);
+
+  const TrainConfig& config() const { return config_; }
+  Method method() const { return method_; }
+  int iteration() const { return iteration_; }
+  long env_steps() const { return env_steps_; }
+  ActorCritic policy() const { return policy_; }
+  RunningNormalizer normalizer() const { return normalizer_; }
+  PeriodicAutoencoder pae() const { return pae_; }
+  Discriminator discriminator() const { return discriminator_; }
+  int policy_obs_size() const { return policy_obs_size_; }
+
+ private:
+  void CollectRollout(IterationStats& stats);
+  torch::Tensor PolicyObservations(bool update_normalizer);
+  torch::Tensor CriticObservations(const torch::Tensor& obs, const float* positions) const;
+  void AfterStep(int t, const float* actions);
+  void ComputeRewards(IterationStats& stats);
+  double UpdatePae();
+  double UpdateDiscriminator();
+
+  TrainConfig config_;
+  Method method_;
+  int num_envs_, steps_;
+  int policy_obs_size_, critic_obs_size_;
+  VecEnv vec_;
+
+  ActorCritic policy_{nullptr};
+  RunningNormalizer normalizer_{nullptr};
+  PeriodicAutoencoder pae_{nullptr};
+  Discriminator discriminator_{nullptr};
+  Ppo ppo_;
+  torch::optim::AdamW pae_optimizer_;
+  torch::optim::Adam discriminator_optimizer_;
+
+  // Per env.
+  std::vector<int> skill_;
+  std::vector<Rng> skill_rng_;
+  std::vector<float> previous_action_;
+  std::vector<MotionHistory> history_;
+  std::vector<int> episode_length_;
+  std::vector<int> ended_, ended_length_sum_, ended_falls_;
+
+  // The rollout, [T, N, ...].
+  Rollout rollout_;
+  torch::Tensor raw_obs_;        // [N, policy_obs_size], this step's unnormalised o^p
+  torch::Tensor windows_;        // [T, N, 33, H] o^H_{t+1} (FLSD)
+  torch::Tensor next_motion_;    // [T, N, 33] o^m_{t+1}
+  torch::Tensor next_position_;  // [T, N, 2] q_xy at t+1
+  torch::Tensor skills_;         // [T, N] int64
+  torch::Tensor discriminator_obs_;  // [T * N, o^d]
+  torch::Tensor last_values_;    // [N]
+
+  int iteration_ = 0;
+  long env_steps_ = 0;
+};
+
+}  // namespace flsd

@@ -1,0 +1,25 @@
+#pragma once
+#include <atomic>
+#include <string>
+
+namespace flsd {
+
+struct TrainingRunOptions {
+  std::string config_path;  // a new run's config; ignored on resume (the run keeps its own)
+  std::string method;       // "flsd" or "diayn"; empty: the config's
+  std::string run_dir;
+  bool resume = false;
+  int iterations = 0;  // > 0: train until this many iterations in total
+};
+
+// Trains in run_dir: config.yaml (the resolved config), checkpoint.pt (every checkpoint_every
+// iterations and at exit, including on a stop request), progress.csv. Returns 0 when the run
+// reached its iterations or was stopped, 3 when a loss turned non-finite (the last good checkpoint
+// is kept, nothing is written over it).
+int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop_requested);
+
+// Limits BLAS to one thread: libtorch parallelises its own kernels, and OpenBLAS's own pool on
+// top of it oversubscribes the cores (measured: a 4096-sample MLP update 15x slower).
+void ConfigureTorchThreads(int threads);
+
+}  // namespace flsd

@@ -99,7 +99,19 @@ void TimeCeiling(const std::vector<BareSim>& sims, const A1ModelIndex& index, in
   tally.contacts += static_cast<double>(contacts.load());
 }
 
+std::vector<BareSim> SameSimulations(VecEnv& vec) {
+  std::vector<BareSim> sims;
+  for (int i = 0; i < vec.num_envs(); ++i) sims.push_back({&vec.env(i).model(), &vec.env(i).data()});
+  return sims;
+}
+
 }  // namespace
+
+double MeasurePhysicsCeiling(VecEnv& vec, double seconds, uint64_t seed) {
+  Tally tally;
+  TimeCeiling(SameSimulations(vec), vec.env(0).index(), vec.num_threads(), seconds, seed, tally);
+  return tally.steps / tally.seconds / a1::kDecimation;
+}
 
 nlohmann::json RunSimBenchmark(const SimBenchOptions& options) {
   const EnvConfig config =
@@ -109,8 +121,7 @@ nlohmann::json RunSimBenchmark(const SimBenchOptions& options) {
   VecEnv vec(config, options.num_envs, options.seed, threads);
 
   // Ceiling 1: the same simulations as the VecEnv (each env's own randomised model and state).
-  std::vector<BareSim> same_sims;
-  for (int i = 0; i < vec.num_envs(); ++i) same_sims.push_back({&vec.env(i).model(), &vec.env(i).data()});
+  const std::vector<BareSim> same_sims = SameSimulations(vec);
   // Ceiling 2: one nominal standing A1 per thread, all in cache: the cost of mj_step itself.
   EnvConfig nominal = config;
   nominal.randomization.DisableAll();

@@ -24,4 +24,9 @@ struct SimBenchOptions {
 // Rates are control steps per second (mj_step rate / 4); mj_step_us is the cache-hot step cost.
 nlohmann::json RunSimBenchmark(const SimBenchOptions& options);
 
+class VecEnv;
+// The physics ceiling of `vec`: control steps per second of the bare loop above over the same
+// simulations (each env's own model and current state) on vec's threads, timed for `seconds`.
+double MeasurePhysicsCeiling(VecEnv& vec, double seconds, uint64_t seed);
+
 }  // namespace flsd

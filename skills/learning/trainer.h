@@ -64,6 +64,7 @@ class Trainer {
   PeriodicAutoencoder pae() const { return pae_; }
   Discriminator discriminator() const { return discriminator_; }
   int policy_obs_size() const { return policy_obs_size_; }
+  VecEnv& vec_env() { return vec_; }
 
  private:
   void CollectRollout(IterationStats& stats);

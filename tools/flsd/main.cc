@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "bench/sim_bench.h"
+#include "bench/train_bench.h"
 #include "core/check.h"
 #include "skills/learning/training_run.h"
 #include "tools/flsd/sim_demo.h"
@@ -48,6 +49,12 @@ int main(int argc, char** argv) {
   sim_cmd->add_option("--seconds", sim.seconds, "Timed seconds per side")->check(CLI::Range(0.1, 3600.0));
   sim_cmd->add_option("--seed", sim.seed, "Random seed");
   sim_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
+  flsd::TrainBenchOptions train_bench;
+  CLI::App* train_bench_cmd = bench_cmd->add_subcommand("train", "Algorithm 1 throughput against the physics ceiling");
+  train_bench_cmd->add_option("--config", train_bench.config, "Training config");
+  train_bench_cmd->add_option("--method", train_bench.method, "flsd or diayn")->check(CLI::IsMember({"flsd", "diayn"}));
+  train_bench_cmd->add_option("--iterations", train_bench.iterations, "Timed iterations")->check(CLI::Range(1, 1000));
+  train_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -61,6 +68,10 @@ int main(int argc, char** argv) {
     }
     if (*sim_cmd) {
       std::printf("%s\n", flsd::RunSimBenchmark(sim).dump(2).c_str());
+      return 0;
+    }
+    if (*train_bench_cmd) {
+      std::printf("%s\n", flsd::RunTrainBenchmark(train_bench).dump(2).c_str());
       return 0;
     }
   } catch (const flsd::InputError& e) {

@@ -83,10 +83,13 @@ std::vector<double> PowerSpectrum(const std::vector<double>& x, double rate_hz) 
   const size_t n = x.size();
   std::vector<double> psd(n / 2 + 1, 0.0);
   if (n == 0) return psd;
-  // A direct DFT: trajectories are at most a few thousand samples, evaluated offline.
+  // A direct DFT over a table of the n roots of unity: trajectories are at most a few thousand
+  // samples, evaluated offline.
+  std::vector<std::complex<double>> roots(n);
+  for (size_t k = 0; k < n; ++k) roots[k] = std::polar(1.0, -2.0 * M_PI * double(k) / double(n));
   for (size_t j = 0; j <= n / 2; ++j) {
     std::complex<double> sum = 0.0;
-    for (size_t t = 0; t < n; ++t) sum += x[t] * std::polar(1.0, -2.0 * M_PI * double(j) * double(t) / double(n));
+    for (size_t t = 0; t < n; ++t) sum += x[t] * roots[(j * t) % n];
     const bool two_sided_pair = j != 0 && !(n % 2 == 0 && j == n / 2);
     psd[j] = (two_sided_pair ? 2.0 : 1.0) * std::norm(sum) / (rate_hz * double(n));
   }

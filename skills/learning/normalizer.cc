@@ -3,10 +3,6 @@
 #include "core/check.h"
 
 namespace flsd {
-namespace {
-constexpr double kEps = 1e-8;
-}
-
 RunningNormalizerImpl::RunningNormalizerImpl(int size) {
   mean_ = register_buffer("mean", torch::zeros({size}, torch::kFloat64));
   variance_ = register_buffer("variance", torch::ones({size}, torch::kFloat64));
@@ -35,7 +31,12 @@ void RunningNormalizerImpl::Merge(double count, const torch::Tensor& mean, const
 }
 
 torch::Tensor RunningNormalizerImpl::Normalize(const torch::Tensor& x) const {
-  return ((x.to(torch::kFloat64) - mean_) / torch::sqrt(variance_ + kEps)).to(torch::kFloat32);
+  return ((x.to(torch::kFloat64) - mean_) / Std()).to(torch::kFloat32);
+}
+
+torch::Tensor NormalizeLeadingColumns(const RunningNormalizer& normalizer, const torch::Tensor& x) {
+  const int64_t n = normalizer->size();
+  return torch::cat({normalizer->Normalize(x.slice(1, 0, n)), x.slice(1, n)}, 1);
 }
 
 }  // namespace flsd

@@ -14,8 +14,12 @@ class RunningNormalizerImpl : public torch::nn::Module {
   void Update(const torch::Tensor& batch);
   // Merges statistics gathered elsewhere (count, mean [size], population variance [size]).
   void Merge(double count, const torch::Tensor& mean, const torch::Tensor& variance);
-  // (x - mean) / sqrt(variance + eps), as float.
+  // (x - mean) / Std(), as float.
   torch::Tensor Normalize(const torch::Tensor& x) const;
+  // sqrt(variance + kEps): what Normalize divides by (exported with skill libraries).
+  torch::Tensor Std() const { return torch::sqrt(variance_ + kEps); }
+
+  static constexpr double kEps = 1e-8;
 
   int size() const { return static_cast<int>(mean_.size(0)); }
   double count() const { return count_.item<double>(); }
@@ -26,5 +30,9 @@ class RunningNormalizerImpl : public torch::nn::Module {
   torch::Tensor mean_, variance_, count_;  // float64 buffers, saved with checkpoints
 };
 TORCH_MODULE(RunningNormalizer);
+
+// Normalises the first normalizer->size() columns of x [B, >= size] and passes the rest through:
+// the policy's o^m and previous action are normalised, its one-hot skill is not.
+torch::Tensor NormalizeLeadingColumns(const RunningNormalizer& normalizer, const torch::Tensor& x);
 
 }  // namespace flsd

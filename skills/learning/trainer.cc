@@ -88,9 +88,8 @@ torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
     BuildPolicyObservation(vec_.motion_obs() + i * kMotionObsSize, &previous_action_[i * kActionSize],
                            skill_[i], config_.num_skills, raw + i * policy_obs_size_);
   }
-  const torch::Tensor normalized_part = raw_obs_.slice(1, 0, kNormalizedObs);
-  if (update_normalizer) normalizer_->Update(normalized_part);
-  return torch::cat({normalizer_->Normalize(normalized_part), raw_obs_.slice(1, kNormalizedObs)}, 1);
+  if (update_normalizer) normalizer_->Update(raw_obs_.slice(1, 0, kNormalizedObs));
+  return NormalizeLeadingColumns(normalizer_, raw_obs_);
 }
 
 torch::Tensor Trainer::CriticObservations(const torch::Tensor& obs, const float* positions) const {
@@ -306,6 +305,33 @@ void RestoreRngState(const std::string& state, std::vector<Rng>& rngs) {
   if (!in) throw InputError("checkpoint: skill random-number states do not match num_envs");
 }
 
+torch::serialize::InputArchive OpenCheckpoint(const std::string& path) {
+  torch::serialize::InputArchive archive;
+  try {
+    archive.load_from(path);
+  } catch (const c10::Error& e) {
+    throw InputError(path + ": not a readable checkpoint: " + e.what_without_backtrace());
+  }
+  return archive;
+}
+
+void ReadModule(torch::serialize::InputArchive& archive, const char* key, torch::nn::Module& m) {
+  torch::serialize::InputArchive sub;
+  archive.read(key, sub);
+  m.load(sub);
+}
+
+int64_t ReadInt(torch::serialize::InputArchive& archive, const char* key) {
+  c10::IValue value;
+  archive.read(key, value);
+  return value.toInt();
+}
+
+[[noreturn]] void MismatchedCheckpoint(const std::string& path, const c10::Error& e) {
+  throw InputError(path + ": checkpoint does not fit this training config (" +
+                   std::string(e.what_without_backtrace()) + ")");
+}
+
 }  // namespace
 
 void Trainer::SaveCheckpoint(const std::string& path) const {
@@ -336,18 +362,26 @@ void Trainer::SaveCheckpoint(const std::string& path) const {
   WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
 }
 
-void Trainer::LoadCheckpoint(const std::string& path) {
-  torch::serialize::InputArchive archive;
+TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& checkpoint) {
+  torch::serialize::InputArchive archive = OpenCheckpoint(checkpoint);
+  TrainedPolicy out;
+  const int obs = PolicyObservationSize(config.num_skills);
+  out.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
+  out.normalizer = RunningNormalizer(kNormalizedObs);
   try {
-    archive.load_from(path);
+    ReadModule(archive, "policy", *out.policy);
+    ReadModule(archive, "normalizer", *out.normalizer);
+    out.iteration = static_cast<int>(ReadInt(archive, "iteration"));
+    out.env_steps = static_cast<long>(ReadInt(archive, "env_steps"));
   } catch (const c10::Error& e) {
-    throw InputError(path + ": not a readable checkpoint: " + e.what_without_backtrace());
+    MismatchedCheckpoint(checkpoint, e);
   }
-  auto load_module = [&](const char* key, torch::nn::Module& m) {
-    torch::serialize::InputArchive sub;
-    archive.read(key, sub);
-    m.load(sub);
-  };
+  return out;
+}
+
+void Trainer::LoadCheckpoint(const std::string& path) {
+  torch::serialize::InputArchive archive = OpenCheckpoint(path);
+  auto load_module = [&](const char* key, torch::nn::Module& m) { ReadModule(archive, key, m); };
   auto load_optimizer = [&](const char* key, torch::optim::Optimizer& o) {
     torch::serialize::InputArchive sub;
     archive.read(key, sub);
@@ -361,11 +395,9 @@ void Trainer::LoadCheckpoint(const std::string& path) {
     load_optimizer("policy_optimizer", ppo_.optimizer());
     load_optimizer("pae_optimizer", pae_optimizer_);
     load_optimizer("discriminator_optimizer", discriminator_optimizer_);
+    iteration_ = static_cast<int>(ReadInt(archive, "iteration"));
+    env_steps_ = static_cast<long>(ReadInt(archive, "env_steps"));
     c10::IValue value;
-    archive.read("iteration", value);
-    iteration_ = static_cast<int>(value.toInt());
-    archive.read("env_steps", value);
-    env_steps_ = static_cast<long>(value.toInt());
     archive.read("learning_rate", value);
     ppo_.set_learning_rate(value.toDouble());
     torch::Tensor torch_rng;
@@ -375,8 +407,7 @@ void Trainer::LoadCheckpoint(const std::string& path) {
     archive.read("skill_rng", value);
     RestoreRngState(value.toStringRef(), skill_rng_);
   } catch (const c10::Error& e) {
-    throw InputError(path + ": checkpoint does not fit this training config (" +
-                     std::string(e.what_without_backtrace()) + ")");
+    MismatchedCheckpoint(path, e);
   }
 }
 

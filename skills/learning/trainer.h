@@ -40,6 +40,16 @@ struct IterationStats {
          seconds_total = 0.0;
 };
 
+// The parts of a checkpoint that run the policy: for evaluation and export.
+struct TrainedPolicy {
+  ActorCritic policy{nullptr};
+  RunningNormalizer normalizer{nullptr};
+  int iteration = 0;
+  long env_steps = 0;
+};
+// Reads the policy and normaliser of a checkpoint written by a trainer with `config`.
+TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& checkpoint);
+
 class Trainer {
  public:
   explicit Trainer(const TrainConfig& config);

@@ -4,10 +4,12 @@
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "core/atomic_file.h"
 #include "core/check.h"
+#include "flsd_commit.h"
 #include "skills/learning/progress_log.h"
 #include "skills/learning/trainer.h"
 
@@ -48,6 +50,11 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
   fs::create_directories(options.run_dir);
   WriteFileAtomically(config_file, ToYamlString(config) + "\n");
   ConfigureTorchThreads(config.num_threads);
+  // Each sitting of the run appends the commit it was built from.
+  {
+    std::ofstream commits((fs::path(options.run_dir) / "commits").string(), std::ios::app);
+    commits << FLSD_GIT_COMMIT << (options.resume ? " (resumed)" : "") << "\n";
+  }
 
   Trainer trainer(config);
   if (options.resume) {

@@ -10,6 +10,8 @@
 #include "bench/sim_bench.h"
 #include "bench/train_bench.h"
 #include "core/check.h"
+#include "skills/learning/evaluation.h"
+#include "skills/learning/export.h"
 #include "skills/learning/training_run.h"
 #include "tools/flsd/sim_demo.h"
 
@@ -38,6 +40,19 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--iterations", train.iterations, "Train until this many iterations in total")
       ->check(CLI::Range(1, 100000000));
 
+  std::string run_dir, library_path;
+  flsd::EvaluationOptions eval;
+  bool eval_json = false;
+  CLI::App* eval_cmd = app.add_subcommand("eval", "Roll out every skill and compute the paper's metrics");
+  eval_cmd->add_option("run", run_dir, "Run folder")->required();
+  eval_cmd->add_flag("--randomize", eval.randomize, "Keep the training randomisation on");
+  eval_cmd->add_option("--steps", eval.steps, "Steps per skill (default: the episode length)")->check(CLI::Range(1, 1000000));
+  eval_cmd->add_flag("--json", eval_json, "Print the whole JSON (default: a summary)");
+
+  CLI::App* export_cmd = app.add_subcommand("export", "Write a run's skill library (safetensors)");
+  export_cmd->add_option("run", run_dir, "Run folder")->required();
+  export_cmd->add_option("-o,--output", library_path, "Library file to write")->required();
+
   CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks that print JSON");
   bench_cmd->require_subcommand(1);
   flsd::SimBenchOptions sim;
@@ -65,6 +80,26 @@ int main(int argc, char** argv) {
       std::signal(SIGINT, RequestStop);
       std::signal(SIGTERM, RequestStop);
       return flsd::RunTraining(train, g_stop);
+    }
+    if (*eval_cmd) {
+      flsd::ConfigureTorchThreads(0);
+      const nlohmann::json result = flsd::EvaluateRun(run_dir, eval);
+      if (eval_json) {
+        std::printf("%s\n", result.dump(2).c_str());
+      } else {
+        std::printf("%s: %d of %d skills survive 500 steps; state coverage %.4f (%ld of %ld cells); "
+                    "high-frequency power ratio %.4f\n",
+                    run_dir.c_str(), result["skills_surviving_500_steps"].get<int>(), result["num_skills"].get<int>(),
+                    result["state_coverage"]["rate"].get<double>(), result["state_coverage"]["cells_visited"].get<long>(),
+                    result["state_coverage"]["cells_total"].get<long>(),
+                    result["high_frequency_power_ratio"]["pooled"].get<double>());
+      }
+      return 0;
+    }
+    if (*export_cmd) {
+      flsd::ConfigureTorchThreads(0);
+      std::printf("%s\n", flsd::ExportRun(run_dir, library_path).dump(2).c_str());
+      return 0;
     }
     if (*sim_cmd) {
       std::printf("%s\n", flsd::RunSimBenchmark(sim).dump(2).c_str());

@@ -1,0 +1,161 @@
+#include "skills/learning/evaluation.h"
+
+#include <filesystem>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "robot/observation.h"
+#include "sim/vec_env.h"
+#include "skills/learning/trainer.h"
+
+namespace flsd {
+namespace {
+
+TrajectoryPoint PointOf(const RobotState& s) {
+  TrajectoryPoint p;
+  for (int k = 0; k < 3; ++k) {
+    p.linear_velocity[k] = s.base_linear_velocity[k];
+    p.angular_velocity[k] = s.base_angular_velocity[k];
+  }
+  p.base_height = s.base_position.z();
+  p.position = {s.base_position.x(), s.base_position.y()};
+  p.joint_position = s.joint_position;
+  p.joint_velocity = s.joint_velocity;
+  return p;
+}
+
+nlohmann::json Array(const double* v, int n) { return std::vector<double>(v, v + n); }
+
+}  // namespace
+
+Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
+                          const EvaluationOptions& options) {
+  torch::NoGradGuard no_grad;
+  const int skills = config.num_skills;
+  EnvConfig env = config.env;
+  if (!options.randomize) {
+    env.randomization.DisableAll();
+    env.reset.base_velocity = 0.0;
+    env.reset.joint_pos_scale = {1.0, 1.0};
+  }
+  const int steps = options.steps > 0 ? options.steps : env.episode_steps;
+  env.episode_steps = steps;
+  // One env per skill, stepped together; an env's record ends at its first termination.
+  VecEnv vec(env, skills, options.seed, std::max(1, config.num_threads));
+
+  Evaluation eval;
+  eval.method = config.method;
+  eval.steps = steps;
+  eval.randomized = options.randomize;
+  eval.trajectories.resize(skills);
+  std::vector<bool> running(skills, true);
+  const int obs_size = PolicyObservationSize(skills);
+  torch::Tensor raw = torch::zeros({skills, obs_size});
+  std::vector<float> previous(skills * kActionSize, 0.0f);
+  for (int k = 0; k < skills; ++k) {
+    eval.trajectories[k].skill = k;
+    eval.trajectories[k].points.reserve(steps);
+  }
+  for (int t = 0; t < steps; ++t) {
+    for (int k = 0; k < skills; ++k) {
+      BuildPolicyObservation(vec.motion_obs() + k * kMotionObsSize, &previous[k * kActionSize], k, skills,
+                             raw.data_ptr<float>() + k * obs_size);
+    }
+    const torch::Tensor action = policy->ActionMean(NormalizeLeadingColumns(normalizer, raw)).contiguous();
+    const float* a = action.data_ptr<float>();
+    std::copy(a, a + skills * kActionSize, previous.begin());
+    vec.Step(a);
+    bool any = false;
+    for (int k = 0; k < skills; ++k) {
+      if (!running[k]) continue;
+      const Termination ending = vec.termination()[k];
+      // A state after a failure is not part of the skill; a time-out's final state is.
+      if (!IsFailure(ending)) eval.trajectories[k].points.push_back(PointOf(vec.env(k).state()));
+      if (ending != Termination::kNone) {
+        running[k] = false;
+        eval.trajectories[k].fell = IsFailure(ending);
+      }
+      any |= running[k];
+    }
+    if (!any) break;
+  }
+  const double rate = 1.0 / a1::kControlDt;
+  for (const SkillTrajectory& s : eval.trajectories) {
+    eval.skills.push_back(SummarizeSkill(s, rate));
+    eval.survivors += static_cast<int>(s.points.size()) > kCoverageMinSurvival;
+  }
+  eval.coverage = StateCoverage(eval.trajectories);
+  eval.high_frequency = HighFrequencyPowerRatio(eval.trajectories, rate);
+  return eval;
+}
+
+nlohmann::json EvaluationJson(const Evaluation& e) {
+  nlohmann::json coverage_dims = nlohmann::json::array();
+  for (int d = 0; d < kCoverageDims; ++d) {
+    coverage_dims.push_back({{"name", kCoverageRanges[d].name},
+                             {"max", e.coverage.max[d]},
+                             {"min", e.coverage.min[d]},
+                             {"coverage", e.coverage.dim_rate[d]}});
+  }
+  nlohmann::json skills = nlohmann::json::array();
+  for (const SkillSummary& s : e.skills) {
+    skills.push_back({{"skill", s.skill},
+                      {"survival_steps", s.survival_steps},
+                      {"fell", s.fell},
+                      {"mean_linear_velocity", Array(s.mean_linear_velocity.data(), 3)},
+                      {"mean_angular_velocity", Array(s.mean_angular_velocity.data(), 3)},
+                      {"mean_base_height", s.mean_base_height},
+                      {"gait_frequency_hz", s.gait_frequency_hz},
+                      {"high_frequency_ratio", s.high_frequency_ratio},
+                      {"displacement", Array(s.displacement.data(), 2)}});
+  }
+  return {
+      {"method", e.method},
+      {"steps_per_skill", e.steps},
+      {"randomized", e.randomized},
+      {"num_skills", e.skills.size()},
+      {"skills_surviving_500_steps", e.survivors},
+      {"state_coverage",
+       {{"rate", e.coverage.rate},
+        {"cells_visited", e.coverage.cells_visited},
+        {"cells_total", e.coverage.cells_total},
+        {"skills_counted", e.coverage.skills_counted},
+        {"dimensions", coverage_dims}}},
+      {"high_frequency_power_ratio",
+       {{"cutoff_hz", 10.0},
+        {"pooled", e.high_frequency.pooled_ratio},
+        {"mean", e.high_frequency.mean_ratio},
+        {"std", e.high_frequency.std_ratio}}},
+      {"skills", skills},
+  };
+}
+
+std::string SkillSummaryCsv(const Evaluation& e) {
+  std::ostringstream out;
+  out << "skill,survival_steps,fell,vx,vy,vz,wx,wy,wz,base_height,gait_frequency_hz,high_frequency_ratio,dx,dy\n";
+  for (const SkillSummary& s : e.skills) {
+    out << s.skill << ',' << s.survival_steps << ',' << s.fell;
+    for (double v : s.mean_linear_velocity) out << ',' << v;
+    for (double v : s.mean_angular_velocity) out << ',' << v;
+    out << ',' << s.mean_base_height << ',' << s.gait_frequency_hz << ',' << s.high_frequency_ratio << ','
+        << s.displacement[0] << ',' << s.displacement[1] << '\n';
+  }
+  return out.str();
+}
+
+nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options) {
+  namespace fs = std::filesystem;
+  const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
+  const TrainedPolicy trained = LoadTrainedPolicy(config, (fs::path(run_dir) / "checkpoint.pt").string());
+  const Evaluation eval = EvaluateSkills(config, trained.policy, trained.normalizer, options);
+  nlohmann::json json = EvaluationJson(eval);
+  json["run"] = run_dir;
+  json["iteration"] = trained.iteration;
+  json["env_steps"] = trained.env_steps;
+  const std::string suffix = options.randomize ? "_randomized" : "";
+  WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + ".json")).string(), json.dump(2) + "\n");
+  WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + "_skills.csv")).string(), SkillSummaryCsv(eval));
+  return json;
+}
+
+}  // namespace flsd

@@ -1,0 +1,45 @@
+#pragma once
+// `flsd eval`: every skill rolled out once with the deterministic policy (its mean action), and
+// the paper's metrics computed over the trajectories.
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "skills/learning/actor_critic.h"
+#include "skills/learning/metrics.h"
+#include "skills/learning/normalizer.h"
+#include "skills/learning/train_config.h"
+
+namespace flsd {
+
+struct EvaluationOptions {
+  bool randomize = false;  // keep the training randomisation (and pushes) on
+  int steps = 0;           // per skill; 0: the config's episode length
+  uint64_t seed = 1;
+};
+
+struct Evaluation {
+  std::string method;
+  int steps = 0;
+  bool randomized = false;
+  std::vector<SkillTrajectory> trajectories;  // one per skill, up to its first termination
+  std::vector<SkillSummary> skills;
+  int survivors = 0;  // skills that ran more than kCoverageMinSurvival steps
+  CoverageResult coverage;
+  HighFrequencyResult high_frequency;
+};
+
+Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
+                          const EvaluationOptions& options);
+
+nlohmann::json EvaluationJson(const Evaluation& evaluation);
+// One row per skill: survival, mean velocities, height, gait frequency, high-frequency ratio.
+std::string SkillSummaryCsv(const Evaluation& evaluation);
+
+// Loads a run folder's config and checkpoint, evaluates, writes eval.json and eval_skills.csv
+// into the run folder and returns the JSON.
+nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options);
+
+}  // namespace flsd

@@ -1,0 +1,132 @@
+#include "skills/learning/export.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "flsd_commit.h"
+#include "robot/observation.h"
+#include "skills/runtime/safetensors.h"
+
+namespace flsd {
+namespace {
+
+FloatTensor ToFloatTensor(const torch::Tensor& t) {
+  const torch::Tensor c = t.detach().to(torch::kFloat32).contiguous();
+  FloatTensor out;
+  out.shape.assign(c.sizes().begin(), c.sizes().end());
+  out.values.assign(c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+  return out;
+}
+
+template <size_t N>
+std::vector<double> Vec(const std::array<double, N>& a) {
+  return std::vector<double>(a.begin(), a.end());
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy,
+                                    const Evaluation& evaluation, const ExportProvenance& provenance) {
+  nlohmann::json motion = nlohmann::json::array();
+  for (const ObservationSegment& s : kMotionObsLayout) {
+    motion.push_back({{"name", s.name}, {"offset", s.offset}, {"size", s.size}, {"scale", s.scale}});
+  }
+  std::vector<double> joint_min, joint_max;
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    joint_min.push_back(a1::JointMin(j));
+    joint_max.push_back(a1::JointMax(j));
+  }
+  nlohmann::json skills = nlohmann::json::array();
+  for (const SkillSummary& s : evaluation.skills) {
+    skills.push_back({{"id", s.skill},
+                      {"mean_linear_velocity", Vec(s.mean_linear_velocity)},
+                      {"mean_angular_velocity", Vec(s.mean_angular_velocity)},
+                      {"mean_base_height", s.mean_base_height},
+                      {"gait_frequency_hz", s.gait_frequency_hz},
+                      {"survival_steps", s.survival_steps},
+                      {"fell", s.fell}});
+  }
+  nlohmann::json evaluation_json = EvaluationJson(evaluation);
+  evaluation_json.erase("skills");  // per skill, the descriptors above
+  return {
+      {"format", kSkillLibraryFormat},
+      {"format_version", kSkillLibraryVersion},
+      {"robot", "unitree_a1"},
+      {"num_skills", config.num_skills},
+      {"joint_names", std::vector<std::string>(a1::kJointNames.begin(), a1::kJointNames.end())},
+      {"observation",
+       {{"motion", motion},
+        {"motion_size", kMotionObsSize},
+        {"policy", {{"motion", kMotionObsSize}, {"previous_action", kActionSize}, {"skill_onehot", config.num_skills}}},
+        {"policy_size", PolicyObservationSize(config.num_skills)},
+        {"normalized_size", policy.normalizer->size()}}},
+      {"action",
+       {{"size", kActionSize},
+        {"scale", a1::kActionScale},
+        {"clip", a1::kActionClip},
+        {"default_joint_positions", Vec(a1::kDefaultJointPos)}}},
+      {"control",
+       {{"kp", a1::kKp}, {"kd", a1::kKd}, {"control_dt", a1::kControlDt}, {"physics_dt", a1::kPhysicsDt},
+        {"decimation", a1::kDecimation}}},
+      {"limits",
+       {{"torque", a1::kTorqueLimit}, {"joint_velocity", a1::kJointVelocityLimit}, {"joint_min", joint_min},
+        {"joint_max", joint_max}}},
+      {"policy",
+       {{"hidden", config.policy.actor_hidden}, {"activation", "elu"}, {"layers", config.policy.actor_hidden.size() + 1},
+        {"normalizer_eps", RunningNormalizerImpl::kEps}}},
+      {"training",
+       {{"method", config.method},
+        {"iteration", policy.iteration},
+        {"env_steps", policy.env_steps},
+        {"config", ToYamlString(config)},
+        {"run", provenance.run},
+        {"commits", provenance.commits},
+        {"export_commit", provenance.export_commit}}},
+      {"evaluation", evaluation_json},
+      {"skills", skills},
+  };
+}
+
+void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const TrainedPolicy& policy,
+                       const Evaluation& evaluation, const ExportProvenance& provenance) {
+  SafeTensors file;
+  // One string holds the whole description: safetensors metadata values must be strings.
+  file.metadata["format"] = kSkillLibraryFormat;
+  file.metadata["flsd"] = SkillLibraryMetadata(config, policy, evaluation, provenance).dump();
+  int layer = 0;
+  for (const auto& module : policy.policy->actor()->children()) {
+    if (const auto* linear = module->as<torch::nn::Linear>()) {
+      const std::string name = "policy.layer" + std::to_string(layer++);
+      file.tensors[name + ".weight"] = ToFloatTensor(linear->weight);
+      file.tensors[name + ".bias"] = ToFloatTensor(linear->bias);
+    }
+  }
+  file.tensors["normalizer.mean"] = ToFloatTensor(policy.normalizer->mean());
+  file.tensors["normalizer.std"] = ToFloatTensor(policy.normalizer->Std());
+  WriteSafeTensors(path, file);
+}
+
+nlohmann::json ExportRun(const std::string& run_dir, const std::string& path) {
+  namespace fs = std::filesystem;
+  const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
+  const TrainedPolicy policy = LoadTrainedPolicy(config, (fs::path(run_dir) / "checkpoint.pt").string());
+  const Evaluation evaluation = EvaluateSkills(config, policy.policy, policy.normalizer, EvaluationOptions{});
+  const ExportProvenance provenance{run_dir, ReadText((fs::path(run_dir) / "commits").string()), FLSD_GIT_COMMIT};
+  WriteSkillLibrary(path, config, policy, evaluation, provenance);
+  return {{"library", path},
+          {"method", config.method},
+          {"num_skills", config.num_skills},
+          {"iteration", policy.iteration},
+          {"skills_surviving_500_steps", evaluation.survivors},
+          {"state_coverage_rate", evaluation.coverage.rate}};
+}
+
+}  // namespace flsd

@@ -1,0 +1,37 @@
+#pragma once
+// `flsd export`: a run's policy as a self-describing skill library (DESIGN.md, "The skill library
+// file"): one safetensors file whose tensors are the policy's layers and its observation
+// normaliser, and whose metadata says everything needed to run it safely.
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "skills/learning/evaluation.h"
+#include "skills/learning/trainer.h"
+
+namespace flsd {
+
+inline constexpr const char* kSkillLibraryFormat = "flsd-skill-library";
+inline constexpr int kSkillLibraryVersion = 1;
+
+struct ExportProvenance {
+  std::string run;          // run folder
+  std::string commits;      // the commits that trained it (run_dir/commits)
+  std::string export_commit;
+};
+
+// The library's metadata: format, robot, joint order, observation layout and scales, action
+// scale, default pose, gains, rates, limits, network shapes, training config and provenance,
+// evaluation metrics and one descriptor per skill.
+nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy,
+                                    const Evaluation& evaluation, const ExportProvenance& provenance);
+
+// Writes the library (atomically) to `path`.
+void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const TrainedPolicy& policy,
+                       const Evaluation& evaluation, const ExportProvenance& provenance);
+
+// Loads a run, evaluates it without randomisation, and writes its library to `path`.
+nlohmann::json ExportRun(const std::string& run_dir, const std::string& path);
+
+}  // namespace flsd

@@ -1,0 +1,227 @@
+#include "skills/runtime/skill_library.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/check.h"
+#include "robot/a1.h"
+#include "robot/observation.h"
+#include "skills/runtime/safetensors.h"
+
+namespace flsd {
+namespace {
+
+constexpr const char* kFormat = "flsd-skill-library";
+constexpr int kVersion = 1;
+constexpr double kTolerance = 1e-9;
+
+// Checks fields of the metadata JSON, each failure naming the file and the field's path.
+class MetadataChecker {
+ public:
+  MetadataChecker(const std::string& path, const nlohmann::json& root) : path_(path), root_(root) {}
+
+  const nlohmann::json& At(const std::string& pointer) const {
+    const nlohmann::json::json_pointer p(pointer);
+    if (!root_.contains(p)) Fail(pointer, "is missing");
+    return root_.at(p);
+  }
+  template <class T>
+  T Get(const std::string& pointer) const {
+    try {
+      return At(pointer).get<T>();
+    } catch (const nlohmann::json::exception&) {
+      Fail(pointer, "has the wrong type (" + At(pointer).dump() + ")");
+    }
+  }
+  void ExpectNumber(const std::string& pointer, double expected) const {
+    const double got = Get<double>(pointer);
+    if (std::abs(got - expected) > kTolerance * std::max(1.0, std::abs(expected))) {
+      Fail(pointer, "is " + Show(got) + " but this robot uses " + Show(expected));
+    }
+  }
+  void ExpectNumbers(const std::string& pointer, const std::vector<double>& expected) const {
+    const std::vector<double> got = Get<std::vector<double>>(pointer);
+    if (got.size() != expected.size()) {
+      Fail(pointer, "has " + std::to_string(got.size()) + " entries; expected " + std::to_string(expected.size()));
+    }
+    for (size_t i = 0; i < got.size(); ++i) {
+      if (std::abs(got[i] - expected[i]) > kTolerance * std::max(1.0, std::abs(expected[i]))) {
+        Fail(pointer + "/" + std::to_string(i), "is " + Show(got[i]) + " but this robot uses " + Show(expected[i]));
+      }
+    }
+  }
+  void ExpectString(const std::string& pointer, const std::string& expected) const {
+    const std::string got = Get<std::string>(pointer);
+    if (got != expected) Fail(pointer, "is '" + got + "' but this build expects '" + expected + "'");
+  }
+  [[noreturn]] void Fail(const std::string& pointer, const std::string& what) const {
+    throw InputError(path_ + ": skill library field " + pointer + " " + what);
+  }
+
+ private:
+  static std::string Show(double v) {
+    std::ostringstream s;
+    s.precision(10);
+    s << v;
+    return s.str();
+  }
+  const std::string& path_;
+  const nlohmann::json& root_;
+};
+
+const FloatTensor& Tensor(const SafeTensors& file, const std::string& path, const std::string& name,
+                          const std::vector<int64_t>& shape) {
+  const auto it = file.tensors.find(name);
+  if (it == file.tensors.end()) throw InputError(path + ": skill library has no tensor '" + name + "'");
+  if (it->second.shape != shape) {
+    auto show = [](const std::vector<int64_t>& s) {
+      std::string t = "[";
+      for (size_t i = 0; i < s.size(); ++i) t += (i ? ", " : "") + std::to_string(s[i]);
+      return t + "]";
+    };
+    throw InputError(path + ": tensor '" + name + "' has shape " + show(it->second.shape) + "; expected " +
+                     show(shape));
+  }
+  for (float v : it->second.values) {
+    if (!std::isfinite(v)) throw InputError(path + ": tensor '" + name + "' holds a NaN or infinite value");
+  }
+  return it->second;
+}
+
+std::vector<double> DefaultPose() { return {a1::kDefaultJointPos.begin(), a1::kDefaultJointPos.end()}; }
+
+}  // namespace
+
+SkillLibrary SkillLibrary::Load(const std::string& path) {
+  const SafeTensors file = ReadSafeTensors(path);
+  SkillLibrary lib;
+  lib.path_ = path;
+  const auto format = file.metadata.find("format");
+  if (format == file.metadata.end() || format->second != kFormat || file.metadata.count("flsd") == 0) {
+    throw InputError(path + ": a safetensors file, but not an FLSD skill library (no '" + std::string(kFormat) +
+                     "' metadata)");
+  }
+  try {
+    lib.metadata_ = nlohmann::json::parse(file.metadata.at("flsd"));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": skill library metadata is not JSON: " + e.what());
+  }
+  const MetadataChecker m(path, lib.metadata_);
+
+  const int version = m.Get<int>("/format_version");
+  if (version != kVersion) {
+    m.Fail("/format_version", "is " + std::to_string(version) + " but this build reads version " + std::to_string(kVersion));
+  }
+  m.ExpectString("/robot", "unitree_a1");
+  const std::vector<std::string> joints = m.Get<std::vector<std::string>>("/joint_names");
+  if (joints.size() != a1::kJointNames.size()) m.Fail("/joint_names", "does not list 12 joints");
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    if (joints[j] != a1::kJointNames[j]) {
+      m.Fail("/joint_names/" + std::to_string(j), "is '" + joints[j] + "' but this robot's joint " + std::to_string(j) +
+                                                       " is '" + a1::kJointNames[j] + "' (joint order differs)");
+    }
+  }
+  // The observation layout, segment by segment.
+  const nlohmann::json& motion = m.At("/observation/motion");
+  if (!motion.is_array() || motion.size() != kMotionObsLayout.size()) {
+    m.Fail("/observation/motion", "does not have the " + std::to_string(kMotionObsLayout.size()) + " segments of o^m");
+  }
+  for (size_t s = 0; s < kMotionObsLayout.size(); ++s) {
+    const std::string at = "/observation/motion/" + std::to_string(s);
+    m.ExpectString(at + "/name", kMotionObsLayout[s].name);
+    m.ExpectNumber(at + "/offset", kMotionObsLayout[s].offset);
+    m.ExpectNumber(at + "/size", kMotionObsLayout[s].size);
+    m.ExpectNumber(at + "/scale", kMotionObsLayout[s].scale);
+  }
+  lib.num_skills_ = m.Get<int>("/num_skills");
+  if (lib.num_skills_ < 1) m.Fail("/num_skills", "must be at least 1");
+  lib.policy_obs_size_ = PolicyObservationSize(lib.num_skills_);
+  m.ExpectNumber("/observation/motion_size", kMotionObsSize);
+  m.ExpectNumber("/observation/policy/motion", kMotionObsSize);
+  m.ExpectNumber("/observation/policy/previous_action", kActionSize);
+  m.ExpectNumber("/observation/policy/skill_onehot", lib.num_skills_);
+  m.ExpectNumber("/observation/policy_size", lib.policy_obs_size_);
+  m.ExpectNumber("/observation/normalized_size", kMotionObsSize + kActionSize);
+  m.ExpectNumber("/action/size", kActionSize);
+  m.ExpectNumber("/action/scale", a1::kActionScale);
+  m.ExpectNumber("/action/clip", a1::kActionClip);
+  m.ExpectNumbers("/action/default_joint_positions", DefaultPose());
+  m.ExpectNumber("/control/kp", a1::kKp);
+  m.ExpectNumber("/control/kd", a1::kKd);
+  m.ExpectNumber("/control/control_dt", a1::kControlDt);
+  m.ExpectNumber("/control/physics_dt", a1::kPhysicsDt);
+  m.ExpectNumber("/control/decimation", a1::kDecimation);
+  m.ExpectNumber("/limits/torque", a1::kTorqueLimit);
+  m.ExpectNumber("/limits/joint_velocity", a1::kJointVelocityLimit);
+  m.ExpectString("/policy/activation", "elu");
+
+  // The network: layer shapes must chain from o^p to the 12 actions.
+  const std::vector<int> hidden = m.Get<std::vector<int>>("/policy/hidden");
+  m.ExpectNumber("/policy/layers", static_cast<double>(hidden.size() + 1));
+  int inputs = lib.policy_obs_size_;
+  for (size_t l = 0; l <= hidden.size(); ++l) {
+    const int outputs = l < hidden.size() ? hidden[l] : kActionSize;
+    const std::string name = "policy.layer" + std::to_string(l);
+    const FloatTensor& w = Tensor(file, path, name + ".weight", {outputs, inputs});
+    const FloatTensor& b = Tensor(file, path, name + ".bias", {outputs});
+    DenseLayer layer;
+    layer.weight = Eigen::Map<const RowMatrixXf>(w.values.data(), outputs, inputs);
+    layer.bias = Eigen::Map<const Eigen::VectorXf>(b.values.data(), outputs);
+    lib.layers_.push_back(std::move(layer));
+    inputs = outputs;
+  }
+  const int normalized = kMotionObsSize + kActionSize;
+  lib.normalizer_mean_ = Eigen::Map<const Eigen::VectorXf>(Tensor(file, path, "normalizer.mean", {normalized}).values.data(), normalized);
+  lib.normalizer_std_ = Eigen::Map<const Eigen::VectorXf>(Tensor(file, path, "normalizer.std", {normalized}).values.data(), normalized);
+  if ((lib.normalizer_std_.array() <= 0.0f).any()) {
+    throw InputError(path + ": tensor 'normalizer.std' has a value that is not positive");
+  }
+
+  const nlohmann::json& skills = m.At("/skills");
+  if (!skills.is_array() || static_cast<int>(skills.size()) != lib.num_skills_) {
+    m.Fail("/skills", "must describe each of the " + std::to_string(lib.num_skills_) + " skills");
+  }
+  for (int k = 0; k < lib.num_skills_; ++k) {
+    const std::string at = "/skills/" + std::to_string(k);
+    SkillDescriptor d;
+    d.id = m.Get<int>(at + "/id");
+    if (d.id != k) m.Fail(at + "/id", "is " + std::to_string(d.id) + "; expected " + std::to_string(k));
+    const auto v = m.Get<std::vector<double>>(at + "/mean_linear_velocity");
+    const auto w = m.Get<std::vector<double>>(at + "/mean_angular_velocity");
+    if (v.size() != 3 || w.size() != 3) m.Fail(at, "mean velocities must have 3 entries");
+    d.mean_linear_velocity = Eigen::Vector3d(v[0], v[1], v[2]);
+    d.mean_angular_velocity = Eigen::Vector3d(w[0], w[1], w[2]);
+    d.mean_base_height = m.Get<double>(at + "/mean_base_height");
+    d.gait_frequency_hz = m.Get<double>(at + "/gait_frequency_hz");
+    d.survival_steps = m.Get<int>(at + "/survival_steps");
+    d.fell = m.Get<bool>(at + "/fell");
+    lib.skills_.push_back(d);
+  }
+  return lib;
+}
+
+PolicyRunner::PolicyRunner(const SkillLibrary& library) : library_(library) {
+  activations_.emplace_back(Eigen::VectorXf::Zero(library.policy_obs_size()));
+  for (const DenseLayer& layer : library.policy_layers()) activations_.emplace_back(Eigen::VectorXf::Zero(layer.bias.size()));
+}
+
+void PolicyRunner::Act(const float* policy_obs, float* action) {
+  Eigen::VectorXf& x = activations_[0];
+  const int normalized = static_cast<int>(library_.normalizer_mean().size());
+  const Eigen::Map<const Eigen::VectorXf> obs(policy_obs, library_.policy_obs_size());
+  x.head(normalized) = (obs.head(normalized) - library_.normalizer_mean()).cwiseQuotient(library_.normalizer_std());
+  x.tail(x.size() - normalized) = obs.tail(x.size() - normalized);
+  const std::vector<DenseLayer>& layers = library_.policy_layers();
+  for (size_t l = 0; l < layers.size(); ++l) {
+    Eigen::VectorXf& y = activations_[l + 1];
+    y.noalias() = layers[l].weight * activations_[l];
+    y += layers[l].bias;
+    if (l + 1 < layers.size()) {
+      // ELU: x for x > 0, exp(x) - 1 otherwise.
+      y = y.unaryExpr([](float v) { return v > 0.0f ? v : std::expm1(v); });
+    }
+  }
+  Eigen::Map<Eigen::VectorXf>(action, kActionSize) = activations_.back();
+}
+
+}  // namespace flsd

@@ -8,3 +8,14 @@ function(flsd_test name source label)
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
   gtest_discover_tests(${name} PROPERTIES LABELS ${label} DISCOVERY_TIMEOUT 60)
 endfunction()
+
+# flsd_torch_test(NAME SOURCE LABEL [LIBS...]): as flsd_test, but the whole executable is one ctest
+# test. Loading libtorch costs about a second per process, more than all the cases of these files
+# take together, so they run in one process each (ctest -V, or the executable, lists the cases).
+function(flsd_torch_test name source label)
+  add_executable(${name} ${source})
+  target_link_libraries(${name} PRIVATE GTest::gtest_main ${ARGN})
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
+  add_test(NAME ${name} COMMAND ${name})
+  set_tests_properties(${name} PROPERTIES LABELS ${label})
+endfunction()

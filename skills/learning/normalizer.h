@@ -16,10 +16,12 @@ class RunningNormalizerImpl : public torch::nn::Module {
   void Merge(double count, const torch::Tensor& mean, const torch::Tensor& variance);
   // (x - mean) / Std(), as float.
   torch::Tensor Normalize(const torch::Tensor& x) const;
-  // sqrt(variance + kEps): what Normalize divides by (exported with skill libraries).
-  torch::Tensor Std() const { return torch::sqrt(variance_ + kEps); }
+  // sqrt(variance) + kEps: what Normalize divides by (exported with skill libraries). As in
+  // rsl_rl's EmpiricalNormalization, eps is added to the std, not the variance, so that a nearly
+  // constant input (gravity z while standing) is not blown up by a tiny std.
+  torch::Tensor Std() const { return torch::sqrt(variance_) + kEps; }
 
-  static constexpr double kEps = 1e-8;
+  static constexpr double kEps = 1e-2;
 
   int size() const { return static_cast<int>(mean_.size(0)); }
   double count() const { return count_.item<double>(); }

@@ -28,6 +28,9 @@ struct TrainConfig {
   int window = 51;      // H: 1 s of motion at 50 Hz
   // legged_gym's only_positive_rewards: a negative reward would make falling early attractive.
   bool only_positive_rewards = true;
+  // legged_gym multiplies every reward by the control period (0.02 s), which keeps returns of
+  // order one; rsl_rl's value clipping (0.2 per update) assumes that scale.
+  double reward_scale = 0.02;
   double critic_position_scale = 0.25;  // the critic also sees q_xy, x this (1/m)
   int checkpoint_every = 25;            // iterations
   EnvConfig env;
@@ -47,6 +50,7 @@ struct TrainConfig {
     v("num_skills", num_skills, Bounds<int>{2, 10000});
     v("window", window, Bounds<int>{3, 1001});
     v("only_positive_rewards", only_positive_rewards);
+    v("reward_scale", reward_scale, Bounds<double>{1e-6, 1e6});
     v("critic_position_scale", critic_position_scale, Bounds<double>{0.0, 100.0});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("env", env);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -25,6 +26,13 @@ int DiscriminatorInputs(Method method, const PaeConfig& pae) {
   return 2 + (method == Method::kFlsd ? 2 * pae.latent_channels : kMotionObsSize);
 }
 
+// Seeds libtorch's generator and passes the config on: used to initialise the first member, so
+// that the seed is set before any network draws its initial weights.
+const TrainConfig& SeedTorch(const TrainConfig& config) {
+  torch::manual_seed(config.seed);
+  return config;
+}
+
 int Threads(int configured) {
   return configured > 0 ? configured : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
@@ -34,7 +42,7 @@ bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>
 }  // namespace
 
 Trainer::Trainer(const TrainConfig& config)
-    : config_(config),
+    : config_(SeedTorch(config)),
       method_(ParseMethod(config.method)),
       num_envs_(config.num_envs),
       steps_(config.steps_per_env),
@@ -51,7 +59,6 @@ Trainer::Trainer(const TrainConfig& config)
       discriminator_optimizer_(discriminator_->parameters(),
                                torch::optim::AdamOptions(config.discriminator.learning_rate)) {
   ValidateTrainConfig(config, "training config");
-  torch::manual_seed(config.seed);
   const int n = num_envs_, t = steps_;
   skill_.resize(n);
   previous_action_.assign(n * kActionSize, 0.0f);
@@ -206,7 +213,8 @@ void Trainer::ComputeRewards(IterationStats& stats) {
   const torch::Tensor reward = IntrinsicReward(log_probs, skills);
   stats.intrinsic_reward = reward.mean().item<double>();
   stats.discriminator_accuracy = (log_probs.argmax(1) == skills).to(torch::kFloat32).mean().item<double>();
-  rollout_.rewards.copy_((config_.only_positive_rewards ? reward.clamp_min(0.0) : reward).view({steps_, num_envs_}));
+  const torch::Tensor clipped = config_.only_positive_rewards ? reward.clamp_min(0.0) : reward;
+  rollout_.rewards.copy_((config_.reward_scale * clipped).view({steps_, num_envs_}));
 }
 
 double Trainer::UpdatePae() {
@@ -315,10 +323,28 @@ torch::serialize::InputArchive OpenCheckpoint(const std::string& path) {
   return archive;
 }
 
+// Module::load replaces tensors whatever their shape, so the shapes are checked here: a
+// checkpoint from another config is an error that leaves the module as it was, not a crash in
+// the next matrix product.
 void ReadModule(torch::serialize::InputArchive& archive, const char* key, torch::nn::Module& m) {
+  struct Kept {
+    std::string name;
+    torch::Tensor live, copy;
+  };
+  std::vector<Kept> kept;
+  for (const auto& p : m.named_parameters()) kept.push_back({p.key(), p.value(), p.value().detach().clone()});
+  for (const auto& b : m.named_buffers()) kept.push_back({b.key(), b.value(), b.value().detach().clone()});
   torch::serialize::InputArchive sub;
   archive.read(key, sub);
   m.load(sub);
+  for (const Kept& k : kept) {
+    if (k.live.sizes() == k.copy.sizes()) continue;
+    const std::string message = std::string("checkpoint tensor ") + key + "." + k.name + " has shape " +
+                                c10::str(k.live.sizes()) + " but this training config needs " + c10::str(k.copy.sizes());
+    torch::NoGradGuard no_grad;
+    for (const Kept& restore : kept) restore.live.set_(restore.copy);
+    throw InputError(message);
+  }
 }
 
 int64_t ReadInt(torch::serialize::InputArchive& archive, const char* key) {
@@ -375,6 +401,8 @@ TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& ch
     out.env_steps = static_cast<long>(ReadInt(archive, "env_steps"));
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(checkpoint, e);
+  } catch (const InputError& e) {
+    throw InputError(checkpoint + ": does not fit this training config: " + e.what());
   }
   return out;
 }
@@ -408,6 +436,8 @@ void Trainer::LoadCheckpoint(const std::string& path) {
     RestoreRngState(value.toStringRef(), skill_rng_);
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(path, e);
+  } catch (const InputError& e) {
+    throw InputError(path + ": does not fit this training config: " + e.what());
   }
 }
 

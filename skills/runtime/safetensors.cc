@@ -94,13 +94,18 @@ SafeTensors ReadSafeTensors(const std::string& path) {
     if (entry["dtype"] != "F32") Fail(path, where + " has dtype " + entry["dtype"].dump() + "; expected \"F32\"");
     FloatTensor tensor;
     const nlohmann::json& offsets = entry["data_offsets"];
+    uint64_t begin = 0, end = 0;
     try {
       tensor.shape = entry["shape"].get<std::vector<int64_t>>();
-      if (!offsets.is_array() || offsets.size() != 2) throw std::invalid_argument("offsets");
+      if (!offsets.is_array() || offsets.size() != 2 || !offsets[0].is_number_unsigned() ||
+          !offsets[1].is_number_unsigned()) {
+        throw std::invalid_argument("offsets");
+      }
+      begin = offsets[0].get<uint64_t>();
+      end = offsets[1].get<uint64_t>();
     } catch (const std::exception&) {
       Fail(path, where + " has a malformed shape or data_offsets");
     }
-    const uint64_t begin = offsets[0].get<uint64_t>(), end = offsets[1].get<uint64_t>();
     int64_t elements = 1;
     for (int64_t d : tensor.shape) {
       if (d < 0 || (d > 0 && elements > (int64_t{1} << 40) / d)) Fail(path, where + " has an invalid shape");

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -77,6 +80,91 @@ TEST(ThreadPool, OneThreadRunsInlineAsOneChunk) {
     EXPECT_EQ(end, 10);
   });
   EXPECT_EQ(calls, 1);
+}
+
+// Spins until `flag` is set, for at most a few seconds so that a broken pool fails rather than
+// hangs the test.
+void WaitFor(const std::atomic<bool>& flag) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!flag.load() && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+}
+
+// The message of the std::runtime_error that `call` throws; "" (and a failure) otherwise.
+template <class F>
+std::string RuntimeErrorMessage(F&& call) {
+  try {
+    call();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "nothing was thrown";
+  return "";
+}
+
+// The worker throws while the calling thread is still busy with its own chunk: the exception
+// crosses threads, and the pool serves the next loop in full.
+TEST(ThreadPool, ExceptionOnAWorkerReachesTheCaller) {
+  ThreadPool pool(2);
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<bool> worker_threw{false};
+  const std::string message = RuntimeErrorMessage([&] {
+    pool.ParallelFor(100, [&](int begin, int end) {
+      if (std::this_thread::get_id() != caller) {
+        worker_threw = true;
+        throw std::runtime_error("worker chunk " + std::to_string(begin));
+      }
+      WaitFor(worker_threw);  // so that the worker surely gets a chunk
+    });
+  });
+  EXPECT_TRUE(worker_threw.load());
+  EXPECT_EQ(message.rfind("worker chunk ", 0), 0u) << message;
+  const Coverage c = RunAndCount(pool, 100);
+  EXPECT_EQ(c.bad_chunks, 0);
+  EXPECT_EQ(c.hits, std::vector<int>(100, 1));
+}
+
+// The caller throws while the worker is inside a chunk: ParallelFor must not return (and
+// destroy fn) before that chunk has finished.
+TEST(ThreadPool, ExceptionOnTheCallerWaitsForTheWorker) {
+  ThreadPool pool(2);
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<bool> worker_started{false};
+  std::atomic<int> active{0};
+  const std::string message = RuntimeErrorMessage([&] {
+    pool.ParallelFor(100, [&](int begin, int end) {
+      if (std::this_thread::get_id() == caller) {
+        WaitFor(worker_started);
+        throw std::runtime_error("caller chunk");
+      }
+      ++active;
+      worker_started = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(30));
+      --active;
+    });
+  });
+  EXPECT_EQ(message, "caller chunk");
+  EXPECT_TRUE(worker_started.load());
+  EXPECT_EQ(active.load(), 0) << "ParallelFor returned while a worker was still in fn";
+  const Coverage c = RunAndCount(pool, 100);
+  EXPECT_EQ(c.hits, std::vector<int>(100, 1));
+}
+
+// A throw at every index in turn, whichever thread happens to run it.
+TEST(ThreadPool, ThrowAtAnyIndexPropagatesAndThePoolStaysUsable) {
+  ThreadPool pool(2);
+  for (int bad = 0; bad < 100; ++bad) {
+    const std::string message = RuntimeErrorMessage([&] {
+      pool.ParallelFor(100, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+          if (i == bad) throw std::runtime_error("index " + std::to_string(i));
+        }
+      });
+    });
+    ASSERT_EQ(message, "index " + std::to_string(bad));
+    const Coverage c = RunAndCount(pool, 100);
+    ASSERT_EQ(c.bad_chunks, 0) << "after a throw at " << bad;
+    ASSERT_EQ(c.hits, std::vector<int>(100, 1)) << "after a throw at " << bad;
+  }
 }
 
 }  // namespace

@@ -1,0 +1,189 @@
+// SkillLibrary: a library written by the learning side loads, matches libtorch's policy to float
+// precision, runs without heap allocation, and every field that differs from this robot is
+// rejected with a message naming it.
+
+#include "skills/runtime/skill_library.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <fstream>
+
+#include "robot/observation.h"
+#include "skills/learning/export.h"
+#include "skills/runtime/safetensors.h"
+#include "tests/common/test_support.h"
+
+// Counts heap allocations while `g_count_mallocs` is set. Defining malloc in the test executable
+// interposes it for every library the process uses, Eigen included.
+extern "C" void* __libc_malloc(size_t size);
+static std::atomic<bool> g_count_mallocs{false};
+static std::atomic<long> g_mallocs{0};
+extern "C" void* malloc(size_t size) {
+  if (g_count_mallocs.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(size);
+}
+
+namespace flsd {
+namespace {
+
+using ::testing::HasSubstr;
+using testutil::InputErrorMessage;
+using testutil::UniqueTempPath;
+
+constexpr int kSkills = 5;
+
+TrainConfig SmallConfig() {
+  TrainConfig config;
+  config.num_skills = kSkills;
+  config.policy.actor_hidden = {32, 16};
+  config.policy.critic_hidden = {8};
+  return config;
+}
+
+// A policy with random weights and non-trivial normaliser statistics.
+TrainedPolicy RandomPolicy(const TrainConfig& config) {
+  torch::manual_seed(3);
+  TrainedPolicy p;
+  const int obs = PolicyObservationSize(config.num_skills);
+  p.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
+  p.normalizer = RunningNormalizer(kMotionObsSize + kActionSize);
+  p.normalizer->Update(torch::randn({64, kMotionObsSize + kActionSize}) * 3.0 + 1.0);
+  p.iteration = 7;
+  p.env_steps = 700;
+  return p;
+}
+
+Evaluation FakeEvaluation(int skills) {
+  Evaluation e;
+  e.method = "flsd";
+  for (int k = 0; k < skills; ++k) {
+    SkillSummary s;
+    s.skill = k;
+    s.survival_steps = 1000 - k;
+    s.mean_linear_velocity = {0.1 * k, -0.2, 0.0};
+    s.mean_base_height = 0.25;
+    s.gait_frequency_hz = 2.0;
+    e.skills.push_back(s);
+  }
+  return e;
+}
+
+class SkillLibraryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = UniqueTempPath("lib.safetensors");
+    WriteSkillLibrary(path_, config_, policy_, FakeEvaluation(kSkills), ExportProvenance{"run", "abc", "def"});
+  }
+  void TearDown() override { std::remove(path_.c_str()); }
+
+  // Rewrites the library with one metadata edit and returns Load's error message.
+  std::string LoadWithEdit(const std::function<void(nlohmann::json&)>& edit) {
+    SafeTensors file = ReadSafeTensors(path_);
+    nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+    edit(meta);
+    file.metadata["flsd"] = meta.dump();
+    const std::string edited = UniqueTempPath("edited.safetensors");
+    WriteSafeTensors(edited, file);
+    const std::string message = InputErrorMessage([&] { SkillLibrary::Load(edited); });
+    std::remove(edited.c_str());
+    return message;
+  }
+
+  TrainConfig config_ = SmallConfig();
+  TrainedPolicy policy_ = RandomPolicy(config_);
+  std::string path_;
+};
+
+TEST_F(SkillLibraryTest, LoadsShapesAndDescriptors) {
+  const SkillLibrary lib = SkillLibrary::Load(path_);
+  EXPECT_EQ(lib.num_skills(), kSkills);
+  EXPECT_EQ(lib.policy_obs_size(), 33 + 12 + kSkills);
+  ASSERT_EQ(lib.policy_layers().size(), 3u);
+  EXPECT_EQ(lib.policy_layers()[0].weight.rows(), 32);
+  EXPECT_EQ(lib.policy_layers()[0].weight.cols(), 50);
+  EXPECT_EQ(lib.policy_layers()[2].weight.rows(), 12);
+  ASSERT_EQ(lib.skills().size(), static_cast<size_t>(kSkills));
+  EXPECT_EQ(lib.skills()[3].survival_steps, 997);
+  EXPECT_DOUBLE_EQ(lib.skills()[3].mean_linear_velocity.x(), 0.3 * 1.0);
+  EXPECT_EQ(lib.metadata()["training"]["iteration"], 7);
+}
+
+// The Eigen runner and libtorch agree on the same weights and inputs.
+TEST_F(SkillLibraryTest, EigenPolicyMatchesLibtorch) {
+  const SkillLibrary lib = SkillLibrary::Load(path_);
+  PolicyRunner runner(lib);
+  torch::NoGradGuard no_grad;
+  const torch::Tensor obs = torch::randn({20, lib.policy_obs_size()}) * 2.0;
+  const torch::Tensor expected = policy_.policy->ActionMean(NormalizeLeadingColumns(policy_.normalizer, obs));
+  for (int i = 0; i < 20; ++i) {
+    float action[kActionSize];
+    runner.Act(obs[i].contiguous().data_ptr<float>(), action);
+    for (int j = 0; j < kActionSize; ++j) EXPECT_NEAR(action[j], expected[i][j].item<float>(), 2e-5) << i << "," << j;
+  }
+}
+
+TEST_F(SkillLibraryTest, ActAllocatesNothing) {
+  const SkillLibrary lib = SkillLibrary::Load(path_);
+  PolicyRunner runner(lib);
+  std::vector<float> obs(lib.policy_obs_size(), 0.5f);
+  float action[kActionSize];
+  runner.Act(obs.data(), action);
+  g_mallocs = 0;
+  g_count_mallocs = true;
+  for (int i = 0; i < 100; ++i) runner.Act(obs.data(), action);
+  g_count_mallocs = false;
+  EXPECT_EQ(g_mallocs.load(), 0);
+}
+
+TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { std::swap(m["joint_names"][0], m["joint_names"][1]); }),
+              HasSubstr("/joint_names/0 is 'FR_thigh_joint' but this robot's joint 0 is 'FR_hip_joint'"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["control"]["kp"] = 25.0; }),
+              HasSubstr("/control/kp is 25 but this robot uses 20"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["observation"]["motion"][1]["scale"] = 1.0; }),
+              HasSubstr("/observation/motion/1/scale is 1 but this robot uses 0.25"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["action"]["default_joint_positions"][4] = 0.9; }),
+              HasSubstr("/action/default_joint_positions/4 is 0.9 but this robot uses 0.8"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["control"]["control_dt"] = 0.01; }),
+              HasSubstr("/control/control_dt"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["format_version"] = 2; }), HasSubstr("/format_version is 2"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m.erase("limits"); }), HasSubstr("/limits/torque is missing"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["robot"] = "go1"; }), HasSubstr("/robot is 'go1'"));
+  // A library that claims more skills than its first layer takes.
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["num_skills"] = kSkills + 1; }), HasSubstr("skill_onehot"));
+}
+
+TEST_F(SkillLibraryTest, RejectsBadTensors) {
+  SafeTensors file = ReadSafeTensors(path_);
+  SafeTensors missing = file;
+  missing.tensors.erase("policy.layer1.bias");
+  const std::string edited = UniqueTempPath("tensors.safetensors");
+  WriteSafeTensors(edited, missing);
+  EXPECT_THAT(InputErrorMessage([&] { SkillLibrary::Load(edited); }), HasSubstr("no tensor 'policy.layer1.bias'"));
+  SafeTensors poisoned = file;
+  poisoned.tensors["policy.layer0.weight"].values[5] = NAN;
+  WriteSafeTensors(edited, poisoned);
+  EXPECT_THAT(InputErrorMessage([&] { SkillLibrary::Load(edited); }), HasSubstr("NaN"));
+  SafeTensors foreign;
+  foreign.tensors["x"] = FloatTensor{{1}, {1.0f}};
+  WriteSafeTensors(edited, foreign);
+  EXPECT_THAT(InputErrorMessage([&] { SkillLibrary::Load(edited); }), HasSubstr("not an FLSD skill library"));
+  std::remove(edited.c_str());
+}
+
+TEST_F(SkillLibraryTest, TruncatedFileIsAnErrorNotACrash) {
+  std::ifstream in(path_, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string cut = UniqueTempPath("cut.safetensors");
+  for (size_t keep : {size_t{0}, size_t{7}, size_t{100}, bytes.size() / 2, bytes.size() - 1}) {
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(keep));
+    EXPECT_THAT(InputErrorMessage([&] { SkillLibrary::Load(cut); }), HasSubstr(cut)) << keep;
+  }
+  std::remove(cut.c_str());
+}
+
+}  // namespace
+}  // namespace flsd

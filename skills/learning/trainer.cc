@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -38,6 +39,28 @@ int Threads(int configured) {
 }
 
 bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
+
+// `epochs` passes over `samples` (row indices) in shuffled minibatches, one optimiser step each.
+// Returns the mean loss, or NaN, without stepping, as soon as a loss is not finite.
+double TrainEpochs(torch::optim::Optimizer& optimizer, const torch::Tensor& samples, int epochs,
+                   int64_t minibatch, const std::function<torch::Tensor(const torch::Tensor&)>& loss_of) {
+  const int64_t n = samples.size(0);
+  double loss_sum = 0.0;
+  int updates = 0;
+  for (int epoch = 0; epoch < epochs; ++epoch) {
+    const torch::Tensor order = samples.index_select(0, torch::randperm(n, torch::kLong));
+    for (int64_t begin = 0; begin < n; begin += minibatch) {
+      const torch::Tensor loss = loss_of(order.slice(0, begin, std::min(n, begin + minibatch)));
+      if (!Finite(loss)) return NAN;
+      optimizer.zero_grad();
+      loss.backward();
+      optimizer.step();
+      loss_sum += loss.item<double>();
+      ++updates;
+    }
+  }
+  return updates > 0 ? loss_sum / updates : 0.0;
+}
 
 }  // namespace
 
@@ -223,46 +246,21 @@ double Trainer::UpdatePae() {
   const int64_t sampled = std::max<int64_t>(1, std::llround(c.sample_fraction * count));
   const torch::Tensor windows = windows_.view({count, kMotionObsSize, config_.window});
   const torch::Tensor chosen = torch::randperm(count, torch::kLong).slice(0, 0, sampled);
-  double loss_sum = 0.0;
-  int updates = 0;
-  for (int epoch = 0; epoch < c.epochs; ++epoch) {
-    const torch::Tensor order = chosen.index_select(0, torch::randperm(sampled, torch::kLong));
-    for (int64_t begin = 0; begin < sampled; begin += c.minibatch_size) {
-      const torch::Tensor x = windows.index_select(0, order.slice(0, begin, std::min(sampled, begin + c.minibatch_size)));
-      const torch::Tensor loss = pae_->Loss(x, pae_->Forward(x));
-      if (!Finite(loss)) return NAN;
-      pae_optimizer_.zero_grad();
-      loss.backward();
-      pae_optimizer_.step();
-      loss_sum += loss.item<double>();
-      ++updates;
-    }
-  }
-  return updates > 0 ? loss_sum / updates : 0.0;
+  return TrainEpochs(pae_optimizer_, chosen, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
+    const torch::Tensor x = windows.index_select(0, idx);
+    return pae_->Loss(x, pae_->Forward(x));  // Eq. 3
+  });
 }
 
 double Trainer::UpdateDiscriminator() {
   const DiscriminatorConfig& c = config_.discriminator;
   const int64_t count = discriminator_obs_.size(0);
   const torch::Tensor skills = skills_.view({count});
-  double loss_sum = 0.0;
-  int updates = 0;
-  for (int epoch = 0; epoch < c.epochs; ++epoch) {
-    const torch::Tensor order = torch::randperm(count, torch::kLong);
-    for (int64_t begin = 0; begin < count; begin += c.minibatch_size) {
-      const torch::Tensor idx = order.slice(0, begin, std::min(count, begin + c.minibatch_size));
-      // Eq. 12 on (o^d, k) pairs of this rollout.
-      const torch::Tensor loss =
-          DiscriminatorLoss(discriminator_->LogProbs(discriminator_obs_.index_select(0, idx)), skills.index_select(0, idx));
-      if (!Finite(loss)) return NAN;
-      discriminator_optimizer_.zero_grad();
-      loss.backward();
-      discriminator_optimizer_.step();
-      loss_sum += loss.item<double>();
-      ++updates;
-    }
-  }
-  return updates > 0 ? loss_sum / updates : 0.0;
+  const torch::Tensor all = torch::arange(count, torch::kLong);
+  return TrainEpochs(discriminator_optimizer_, all, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
+    // Eq. 12 on (o^d, k) pairs of this rollout.
+    return DiscriminatorLoss(discriminator_->LogProbs(discriminator_obs_.index_select(0, idx)), skills.index_select(0, idx));
+  });
 }
 
 IterationStats Trainer::RunIteration() {

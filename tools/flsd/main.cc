@@ -1,4 +1,4 @@
-// flsd: the learning-side command line (simulator demo and benchmarks; training comes next).
+// flsd: the learning side's command line: simulator demo, training, evaluation, export, benchmarks.
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -112,6 +112,9 @@ int main(int argc, char** argv) {
   } catch (const flsd::InputError& e) {
     spdlog::error("{}", e.what());
     return 2;
+  } catch (const std::exception& e) {
+    spdlog::error("internal error: {}", e.what());
+    return 1;
   }
   return 0;
 }

@@ -116,8 +116,7 @@ double MeasurePhysicsCeiling(VecEnv& vec, double seconds, uint64_t seed) {
 nlohmann::json RunSimBenchmark(const SimBenchOptions& options) {
   const EnvConfig config =
       options.config.empty() ? EnvConfig{} : LoadConfigSection<EnvConfig>(options.config, "env");
-  const int threads = options.num_threads > 0 ? options.num_threads
-                                              : static_cast<int>(std::thread::hardware_concurrency());
+  const int threads = ResolveThreadCount(options.num_threads);
   VecEnv vec(config, options.num_envs, options.seed, threads);
 
   // Ceiling 1: the same simulations as the VecEnv (each env's own randomised model and state).

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -25,13 +26,21 @@ void SyncFile(const std::string& path) {
 }  // namespace
 
 void WriteFileAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
-  const std::string temp = path + ".tmp" + std::to_string(::getpid());
+  static std::atomic<unsigned> counter{0};
+  const std::string temp = path + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(counter++);
   try {
     write(temp);
     SyncFile(temp);
     std::error_code ec;
     std::filesystem::rename(temp, path, ec);
     if (ec) throw InputError(path + ": cannot replace with " + temp + ": " + ec.message());
+    // The rename itself lives in the directory: sync it too, or a crash may undo it.
+    const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+    const int dir = ::open(parent.c_str(), O_RDONLY | O_DIRECTORY);
+    if (dir >= 0) {
+      ::fsync(dir);
+      ::close(dir);
+    }
   } catch (...) {
     std::remove(temp.c_str());
     throw;

@@ -19,6 +19,10 @@ inline void CpuRelax() {
 
 }  // namespace
 
+int ResolveThreadCount(int configured) {
+  return configured > 0 ? configured : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 ThreadPool::ThreadPool(int num_threads) : num_threads_(num_threads) {
   FLSD_DEMAND(num_threads >= 1);
   for (int w = 1; w < num_threads; ++w) workers_.emplace_back([this] { WorkerLoop(); });

@@ -9,6 +9,9 @@
 
 namespace flsd {
 
+// `configured` threads, or every core when it is 0 (never fewer than one).
+int ResolveThreadCount(int configured);
+
 // A fixed set of worker threads that run one data-parallel loop at a time; the calling thread
 // works too, so ThreadPool(1) runs everything inline with no synchronisation.
 //

@@ -5,6 +5,7 @@
 
 #include "core/atomic_file.h"
 #include "robot/observation.h"
+#include "core/thread_pool.h"
 #include "sim/vec_env.h"
 #include "skills/learning/trainer.h"
 
@@ -39,9 +40,11 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
     env.reset.joint_pos_scale = {1.0, 1.0};
   }
   const int steps = options.steps > 0 ? options.steps : env.episode_steps;
-  env.episode_steps = steps;
+  // One step beyond the record, so no episode times out (and is reset) inside it: a VecEnv keeps
+  // only the o^m of a final state, and the trajectory needs the whole RobotState.
+  env.episode_steps = steps + 1;
   // One env per skill, stepped together; an env's record ends at its first termination.
-  VecEnv vec(env, skills, options.seed, std::max(1, config.num_threads));
+  VecEnv vec(env, skills, options.seed, ResolveThreadCount(config.num_threads));
 
   Evaluation eval;
   eval.method = config.method;
@@ -69,8 +72,8 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
     for (int k = 0; k < skills; ++k) {
       if (!running[k]) continue;
       const Termination ending = vec.termination()[k];
-      // A state after a failure is not part of the skill; a time-out's final state is.
-      if (!IsFailure(ending)) eval.trajectories[k].points.push_back(PointOf(vec.env(k).state()));
+      // A failed state is not part of the skill (and the env has already been reset).
+      if (ending == Termination::kNone) eval.trajectories[k].points.push_back(PointOf(vec.env(k).state()));
       if (ending != Termination::kNone) {
         running[k] = false;
         eval.trajectories[k].fell = IsFailure(ending);

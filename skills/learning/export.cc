@@ -24,8 +24,10 @@ std::vector<double> Vec(const std::array<double, N>& a) {
   return std::vector<double>(a.begin(), a.end());
 }
 
-std::string ReadText(const std::string& path) {
+// The run's commits file; a run without one says so rather than leaving provenance blank.
+std::string ReadCommits(const std::string& path) {
   std::ifstream in(path);
+  if (!in) return "unknown (the run has no commits file)";
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
@@ -119,7 +121,7 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path) {
   const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
   const TrainedPolicy policy = LoadTrainedPolicy(config, (fs::path(run_dir) / "checkpoint.pt").string());
   const Evaluation evaluation = EvaluateSkills(config, policy.policy, policy.normalizer, EvaluationOptions{});
-  const ExportProvenance provenance{run_dir, ReadText((fs::path(run_dir) / "commits").string()), FLSD_GIT_COMMIT};
+  const ExportProvenance provenance{run_dir, ReadCommits((fs::path(run_dir) / "commits").string()), FLSD_GIT_COMMIT};
   WriteSkillLibrary(path, config, policy, evaluation, provenance);
   return {{"library", path},
           {"method", config.method},

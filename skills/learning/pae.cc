@@ -73,7 +73,7 @@ torch::Tensor PeriodicAutoencoderImpl::Phase(const torch::Tensor& z) {
 }
 
 torch::Tensor PeriodicAutoencoderImpl::ManifoldOf(const FourierParameters& f, const torch::Tensor& phase) const {
-  // The current frame sits at T = dt/2, the end of the window.
+  // The current frame sits at the end of the centred window, T = (H - 1) / rate / 2.
   const double half_span = (window_ - 1) / sample_rate_hz_ / 2.0;
   const torch::Tensor angle = 2.0 * M_PI * (f.frequency * half_span + phase);
   const torch::Tensor p = torch::stack({f.amplitude * torch::cos(angle), f.amplitude * torch::sin(angle)}, 2);

@@ -34,10 +34,6 @@ const TrainConfig& SeedTorch(const TrainConfig& config) {
   return config;
 }
 
-int Threads(int configured) {
-  return configured > 0 ? configured : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-}
-
 bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
 
 // `epochs` passes over `samples` (row indices) in shuffled minibatches, one optimiser step each.
@@ -71,7 +67,7 @@ Trainer::Trainer(const TrainConfig& config)
       steps_(config.steps_per_env),
       policy_obs_size_(PolicyObservationSize(config.num_skills)),
       critic_obs_size_(PolicyObservationSize(config.num_skills) + 2),
-      vec_(config.env, config.num_envs, config.seed, Threads(config.num_threads)),
+      vec_(config.env, config.num_envs, config.seed, ResolveThreadCount(config.num_threads)),
       policy_(policy_obs_size_, critic_obs_size_, kActionSize, config.policy),
       normalizer_(kNormalizedObs),
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
@@ -308,7 +304,8 @@ std::string RngState(const std::vector<Rng>& rngs) {
 void RestoreRngState(const std::string& state, std::vector<Rng>& rngs) {
   std::istringstream in(state);
   for (Rng& r : rngs) in >> r;
-  if (!in) throw InputError("checkpoint: skill random-number states do not match num_envs");
+  in >> std::ws;
+  if (!in || !in.eof()) throw InputError("checkpoint: skill random-number states do not match num_envs");
 }
 
 torch::serialize::InputArchive OpenCheckpoint(const std::string& path) {
@@ -332,15 +329,23 @@ void ReadModule(torch::serialize::InputArchive& archive, const char* key, torch:
   std::vector<Kept> kept;
   for (const auto& p : m.named_parameters()) kept.push_back({p.key(), p.value(), p.value().detach().clone()});
   for (const auto& b : m.named_buffers()) kept.push_back({b.key(), b.value(), b.value().detach().clone()});
-  torch::serialize::InputArchive sub;
-  archive.read(key, sub);
-  m.load(sub);
+  auto restore = [&] {
+    torch::NoGradGuard no_grad;
+    for (const Kept& k : kept) k.live.set_(k.copy);
+  };
+  try {
+    torch::serialize::InputArchive sub;
+    archive.read(key, sub);
+    m.load(sub);
+  } catch (...) {
+    restore();
+    throw;
+  }
   for (const Kept& k : kept) {
     if (k.live.sizes() == k.copy.sizes()) continue;
     const std::string message = std::string("checkpoint tensor ") + key + "." + k.name + " has shape " +
                                 c10::str(k.live.sizes()) + " but this training config needs " + c10::str(k.copy.sizes());
-    torch::NoGradGuard no_grad;
-    for (const Kept& restore : kept) restore.live.set_(restore.copy);
+    restore();
     throw InputError(message);
   }
 }

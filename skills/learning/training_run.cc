@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/check.h"
+#include "core/thread_pool.h"
 #include "flsd_commit.h"
 #include "skills/learning/progress_log.h"
 #include "skills/learning/trainer.h"
@@ -18,7 +19,7 @@ namespace flsd {
 void ConfigureTorchThreads(int threads) {
   using SetThreads = void (*)(int);
   if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
-  torch::set_num_threads(threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency()));
+  torch::set_num_threads(ResolveThreadCount(threads));
 }
 
 int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop_requested) {

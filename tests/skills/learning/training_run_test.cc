@@ -1,6 +1,7 @@
 // Algorithm 1 end to end on configs/smoke.yaml (8 envs x 24 steps, 4 skills, 32-wide nets):
 // iterations, checkpoints, a run folder with resume, evaluation and the exported skill library.
 
+#include <algorithm>
 #include "skills/learning/training_run.h"
 
 #include <gmock/gmock.h>
@@ -345,6 +346,28 @@ std::vector<double> MeanActionByHand(const SafeTensors& library, int layers, con
     x = y;
   }
   return x;
+}
+
+// Every recorded point of a skill that did not fall belongs to its one episode: the env must not
+// have been reset inside the record. A reset pose of the nominal robot has all joint velocities
+// exactly zero, which a moving policy never has.
+TEST_F(TrainingRun, EvaluationRecordsOneEpisodePerSkill) {
+  const TrainConfig config = SmokeConfig();
+  Trainer trainer(config);
+  EvaluationOptions options;
+  options.steps = 40;
+  const Evaluation eval = EvaluateSkills(config, trainer.policy(), trainer.normalizer(), options);
+  ASSERT_EQ(eval.trajectories.size(), static_cast<size_t>(config.num_skills));
+  int checked = 0;
+  for (const SkillTrajectory& t : eval.trajectories) {
+    if (t.fell) continue;
+    ++checked;
+    ASSERT_EQ(t.points.size(), 40u) << "skill " << t.skill;
+    const auto& last = t.points.back().joint_velocity;
+    EXPECT_FALSE(std::all_of(last.begin(), last.end(), [](double v) { return v == 0.0; }))
+        << "skill " << t.skill << " ends on a reset pose";
+  }
+  EXPECT_GT(checked, 0) << "no skill stood for 40 steps: nothing was checked";
 }
 
 TEST_F(TrainingRun, EvaluatesAndExportsARun) {

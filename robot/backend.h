@@ -1,4 +1,6 @@
 #pragma once
+#include <string>
+
 #include "robot/robot_state.h"
 
 namespace flsd {
@@ -16,6 +18,14 @@ class Backend {
 
   // The latest measured (or estimated) state.
   virtual RobotState Read() = 0;
+
+  // Why the state cannot be trusted (a stale sensor, an unstable simulation), or empty. The
+  // server's safety supervisor damps the robot while this is not empty.
+  virtual std::string Fault() const { return {}; }
+
+  // Whether Reset() can put the robot back on its feet (the simulator can; a real robot cannot).
+  virtual bool CanReset() const { return false; }
+  virtual void Reset() {}
 };
 
 }  // namespace flsd

@@ -131,14 +131,19 @@ Termination Env::Step(const float* action) {
   history_head_ = (history_head_ + 1) % kHistory;
   std::copy(action, action + a1::kNumJoints, action_history_[history_head_].begin());
   const int delayed = (history_head_ - randomization_.action_delay + kHistory) % kHistory;
-  const a1::JointArray<double> target = JointTargetsFromAction(action_history_[delayed].data());
+  return Advance(JointCommand::Track(JointTargetsFromAction(action_history_[delayed].data())));
+}
 
+Termination Env::StepCommand(const JointCommand& command) { return Advance(command); }
+
+Termination Env::Advance(const JointCommand& command) {
   mjData& d = *data_;
   for (int substep = 0; substep < a1::kDecimation; ++substep) {
     for (int j = 0; j < a1::kNumJoints; ++j) {
       d.ctrl[index_.actuator[j]] =
-          MotorTorque(a1::kKp, a1::kKd, target[j], 0.0, d.qpos[index_.qpos[j]],
-                      d.qvel[index_.qvel[j]], 0.0, randomization_.motor_strength[j]);
+          MotorTorque(command.kp[j], command.kd[j], command.position[j], command.velocity[j],
+                      d.qpos[index_.qpos[j]], d.qvel[index_.qvel[j]], command.torque[j],
+                      randomization_.motor_strength[j]);
     }
     mj_step(model_.get(), data_.get());
     // MuJoCo resets the data itself after a non-finite or huge position, velocity or

@@ -54,6 +54,10 @@ class Env {
   // state() still holds the last valid state (MuJoCo has already reset its data).
   Termination Step(const float* action);
 
+  // Advances one control step holding a motor-level command (the server's path: stand, damp,
+  // and policy targets that the safety supervisor has checked). Randomisation still applies.
+  Termination StepCommand(const JointCommand& command);
+
   const RobotState& state() const { return state_; }
   int episode_step() const { return episode_step_; }
   // True when a calf (not the foot) touched the floor during the last step: a knee strike.
@@ -74,6 +78,7 @@ class Env {
   void PlaceInitialState();
   void ReadState();
   Termination CheckTermination() const;
+  Termination Advance(const JointCommand& command);
 
   MjModelPtr model_;
   MjDataPtr data_;

@@ -1,0 +1,163 @@
+#include "client/client.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <random>
+
+#include "comm/protocol.h"
+
+namespace flsd {
+namespace {
+
+std::string MakeClientId() {
+  char host[32] = {0};
+  gethostname(host, sizeof host - 1);
+  char id[64];
+  std::snprintf(id, sizeof id, "%s-%d-%08x", host, static_cast<int>(getpid()),
+                static_cast<unsigned>(std::random_device{}()));
+  return id;
+}
+
+std::string Own(const char* s) { return s != nullptr ? s : ""; }
+
+}  // namespace
+
+std::string CallResult::Describe() const {
+  if (!answered) return "no reply from skilld";
+  std::string text = std::string(dds::StatusName(status)) + ": " + message;
+  if (!safety_report.empty()) text += " [safety: " + safety_report + "]";
+  return text;
+}
+
+Client::Client(const Options& options)
+    : id_(options.client_id.empty() ? MakeClientId() : options.client_id),
+      options_(options),
+      domain_(options.domain_id, options.partition),
+      requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos),
+      replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
+      states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
+      wake_(domain_) {
+  // Request ids grow across client restarts with a fixed id, too: start from the wall clock.
+  next_request_id_ = static_cast<uint64_t>(dds_time());
+  background_ = std::thread([this] { Background(); });
+}
+
+Client::~Client() {
+  running_ = false;
+  wake_.Trigger();
+  if (background_.joinable()) background_.join();
+  if (in_control_) ReleaseControl(std::chrono::milliseconds(500));
+}
+
+bool Client::WaitForServer(std::chrono::milliseconds timeout) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < until) {
+    // A round trip proves both directions are matched; until then a reply could be lost.
+    if (requests_.matched_readers() > 0 && replies_.matched_writers() > 0 &&
+        Call("status", {}, std::chrono::milliseconds(200)).answered) {
+      return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+CallResult Client::Call(const std::string& call, const CallArgs& args, std::chrono::milliseconds timeout) {
+  std::lock_guard<std::mutex> lock(call_mutex_);
+  const uint64_t request_id = ++next_request_id_;
+  flsd_msgs_Request request{};
+  request.header.client_id = const_cast<char*>(id_.c_str());
+  request.header.request_id = request_id;
+  request.header.deadline_ns = dds_time() + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+  request.call = const_cast<char*>(call.c_str());
+  request.skill = args.skill;
+  request.duration = args.duration;
+  std::copy(args.velocity.begin(), args.velocity.end(), request.velocity);
+  std::copy(args.goal.begin(), args.goal.end(), request.goal);
+  request.map_yaml = const_cast<char*>(args.map_yaml.c_str());
+
+  CallResult result;
+  requests_.Write(request);
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (!result.answered) {
+    const auto left = until - std::chrono::steady_clock::now();
+    if (left <= std::chrono::nanoseconds::zero()) break;
+    replies_.Wait(left);
+    // Replies to every client share the topic; keep only the answer to this request.
+    replies_.Take([&](const flsd_msgs_Reply& reply, const dds_sample_info_t&) {
+      if (reply.header.request_id != request_id || Own(reply.header.client_id) != id_) return;
+      result.answered = true;
+      result.status = reply.status;
+      result.message = Own(reply.message);
+      result.safety_report = Own(reply.safety_report);
+      result.skills.assign(reply.skills._buffer, reply.skills._buffer + reply.skills._length);
+    });
+  }
+  return result;
+}
+
+CallResult Client::AcquireControl(std::chrono::milliseconds timeout) {
+  CallResult r = Call("acquire_control", {}, timeout);
+  if (r.ok()) {
+    lost_control_ = false;
+    in_control_ = true;
+  }
+  return r;
+}
+
+CallResult Client::ReleaseControl(std::chrono::milliseconds timeout) {
+  in_control_ = false;
+  return Call("release_control", {}, timeout);
+}
+
+std::optional<StateSample> Client::LatestState() const {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  return latest_;
+}
+
+std::optional<StateSample> Client::WaitForState(const std::function<bool(const StateSample&)>& done,
+                                                std::chrono::milliseconds timeout) const {
+  std::unique_lock<std::mutex> lock(state_mutex_);
+  std::optional<StateSample> found;
+  state_arrived_.wait_for(lock, timeout, [&] {
+    if (latest_ && done(*latest_)) found = latest_;
+    return found.has_value();
+  });
+  return found;
+}
+
+void Client::Background() {
+  auto next_heartbeat = std::chrono::steady_clock::now();
+  while (running_) {
+    states_.Wait(std::chrono::milliseconds(20), wake_.get());
+    states_.Take([&](const flsd_msgs_RobotState& m, const dds_sample_info_t&) {
+      StateSample s;
+      s.msg = m;
+      s.backend = Own(m.backend);
+      s.fault_message = Own(m.fault_message);
+      s.controller = Own(m.controller);
+      s.task_client_id = Own(m.task.client_id);
+      s.task_call = Own(m.task.call);
+      s.task_message = Own(m.task.message);
+      s.msg.backend = s.msg.fault_message = s.msg.controller = nullptr;
+      s.msg.task.client_id = s.msg.task.call = s.msg.task.message = nullptr;
+      {
+        std::lock_guard<std::mutex> lock(state_mutex_);
+        latest_ = std::move(s);
+      }
+      state_arrived_.notify_all();
+    });
+    const auto now = std::chrono::steady_clock::now();
+    if (in_control_ && now >= next_heartbeat) {
+      next_heartbeat = now + options_.heartbeat;
+      const CallResult r = Call("acquire_control", {}, options_.heartbeat);
+      if (r.answered && r.status != flsd_msgs_STATUS_OK) {
+        lost_control_ = true;
+        in_control_ = false;
+      }
+    }
+  }
+}
+
+}  // namespace flsd

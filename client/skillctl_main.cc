@@ -1,0 +1,184 @@
+// skillctl: command-line client of skilld. Exit codes: 0 done, 1 refused by the server,
+// 2 no server answering, 4 a motion that ended without success (safety stop, lease lost...).
+
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "client/client.h"
+#include "comm/protocol.h"
+
+namespace {
+
+constexpr int kExitRefused = 1;
+constexpr int kExitNoServer = 2;
+constexpr int kExitTaskFailed = 4;
+
+std::atomic<bool> g_interrupted{false};
+void OnSignal(int) { g_interrupted = true; }
+
+void PrintState(const flsd::StateSample& s) {
+  const flsd_msgs_RobotState& m = s.msg;
+  std::printf("t %7.2f  %-8s", m.time, flsd::dds::ModeName(m.mode));
+  if (m.skill >= 0) std::printf(" %-3d", m.skill); else std::printf("    ");
+  std::printf("  xyz %6.2f %6.2f %5.2f  v %5.2f %5.2f  wz %5.2f", m.position[0], m.position[1], m.position[2],
+              m.linear_velocity[0], m.linear_velocity[1], m.angular_velocity[2]);
+  if (m.faults != 0) std::printf("  FAULT %s", s.fault_message.c_str());
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+// Follows the task started by request `request_id` until it ends; Ctrl-C stops the robot.
+int FollowTask(flsd::Client& client, const std::string& call, bool quiet) {
+  auto last_print = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  for (;;) {
+    if (g_interrupted) {
+      std::printf("interrupted: stopping\n");
+      client.Call("stop");
+      return kExitTaskFailed;
+    }
+    const std::optional<flsd::StateSample> s = client.WaitForState([](const flsd::StateSample&) { return true; },
+                                                                    std::chrono::milliseconds(1000));
+    if (!s) {
+      std::fprintf(stderr, "skillctl: no state from skilld for 1 s\n");
+      return kExitNoServer;
+    }
+    const bool ours = s->task_client_id == client.id() && s->task_call == call;
+    const auto now = std::chrono::steady_clock::now();
+    if (!quiet && now - last_print >= std::chrono::milliseconds(500)) {
+      PrintState(*s);
+      last_print = now;
+    }
+    if (ours && s->msg.task.state != flsd_msgs_TASK_RUNNING) {
+      PrintState(*s);
+      std::printf("%s %s: %s\n", call.c_str(), flsd::dds::TaskStateName(s->msg.task.state), s->task_message.c_str());
+      return s->msg.task.state == flsd_msgs_TASK_SUCCEEDED ? 0 : kExitTaskFailed;
+    }
+    if (client.lost_control()) {
+      std::printf("%s: control was lost\n", call.c_str());
+      return kExitTaskFailed;
+    }
+  }
+}
+
+int Report(const flsd::CallResult& r) {
+  if (!r.answered) {
+    std::fprintf(stderr, "skillctl: %s\n", r.Describe().c_str());
+    return kExitNoServer;
+  }
+  std::printf("%s\n", r.Describe().c_str());
+  return r.ok() ? 0 : kExitRefused;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"skillctl: talk to skilld, the FLSD skill server"};
+  app.require_subcommand(1);
+  flsd::Client::Options options;
+  double timeout_s = 3.0;
+  bool quiet = false;
+  app.add_option("--domain", options.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--partition", options.partition, "DDS partition");
+  app.add_option("--timeout", timeout_s, "Seconds to wait for the server")->check(CLI::Range(0.1, 600.0));
+  app.add_flag("--quiet", quiet, "Print only the outcome of a motion");
+
+  flsd::CallArgs args;
+  double watch_seconds = 0.0;
+  std::string map_file;
+  app.add_subcommand("list", "List the library's skills");
+  app.add_subcommand("status", "Print the server's mode, control holder and faults");
+  CLI::App* skill = app.add_subcommand("skill", "Run skill K for --duration seconds, then stand");
+  skill->add_option("k", args.skill, "Skill id")->required();
+  skill->add_option("--duration", args.duration, "Seconds")->required();
+  CLI::App* vel = app.add_subcommand("vel", "Track a body velocity for --duration seconds");
+  vel->add_option("vx", args.velocity[0], "m/s")->required();
+  vel->add_option("vy", args.velocity[1], "m/s")->required();
+  vel->add_option("wz", args.velocity[2], "rad/s")->required();
+  vel->add_option("--duration", args.duration, "Seconds")->required();
+  CLI::App* go = app.add_subcommand("goto", "Walk to (X, Y) around the map's obstacles");
+  go->add_option("x", args.goal[0], "m")->required();
+  go->add_option("y", args.goal[1], "m")->required();
+  go->add_option("--map", map_file, "Map (YAML); default: the server's");
+  app.add_subcommand("stop", "End the current motion; the robot stands");
+  app.add_subcommand("stand", "Stand in the default pose (clears a safety stop once upright)");
+  app.add_subcommand("damp", "Emergency stop: damp all joints (any client may)");
+  app.add_subcommand("reset", "Put the simulated robot back on its feet");
+  CLI::App* watch = app.add_subcommand("watch", "Print the robot's state as it changes");
+  watch->add_option("--seconds", watch_seconds, "Stop after this long (0: until Ctrl-C)");
+  CLI11_PARSE(app, argc, argv);
+
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  const std::string command = app.get_subcommands().front()->get_name();
+  const auto timeout = std::chrono::milliseconds(static_cast<int>(timeout_s * 1000));
+  try {
+    if (!map_file.empty()) {
+      std::ifstream in(map_file);
+      if (!in) {
+        std::fprintf(stderr, "skillctl: cannot read map %s\n", map_file.c_str());
+        return kExitRefused;
+      }
+      std::stringstream text;
+      text << in.rdbuf();
+      args.map_yaml = text.str();
+    }
+    flsd::Client client(options);
+    if (!client.WaitForServer(timeout)) {
+      std::fprintf(stderr, "skillctl: no skilld answers on DDS domain %d, partition '%s' (waited %.1f s)\n",
+                   options.domain_id, options.partition.c_str(), timeout_s);
+      return kExitNoServer;
+    }
+    if (command == "list") {
+      const flsd::CallResult r = client.Call("list_skills");
+      if (!r.ok()) return Report(r);
+      std::printf("%-5s %8s %8s %8s %8s %8s %9s\n", "skill", "vx m/s", "vy m/s", "wz rad/s", "height m", "gait Hz",
+                  "survival");
+      for (const flsd_msgs_SkillInfo& s : r.skills) {
+        std::printf("%-5d %8.2f %8.2f %8.2f %8.3f %8.2f %9d\n", s.id, s.linear_velocity[0], s.linear_velocity[1],
+                    s.angular_velocity[2], s.base_height, s.gait_frequency, s.survival_steps);
+      }
+      return 0;
+    }
+    if (command == "status" || command == "damp") return Report(client.Call(command));
+    if (command == "watch") {
+      const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int>(watch_seconds * 1000));
+      while (!g_interrupted && (watch_seconds <= 0.0 || std::chrono::steady_clock::now() < until)) {
+        const auto s = client.WaitForState([](const flsd::StateSample&) { return true; }, std::chrono::milliseconds(1000));
+        if (!s) {
+          std::fprintf(stderr, "skillctl: no state from skilld for 1 s\n");
+          return kExitNoServer;
+        }
+        PrintState(*s);
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      }
+      return 0;
+    }
+
+    // Motion: take control for the length of the command.
+    const flsd::CallResult acquired = client.AcquireControl(timeout);
+    if (!acquired.ok()) return Report(acquired);
+    static const std::map<std::string, std::string> kCalls = {
+        {"skill", "execute_skill"}, {"vel", "track_velocity"}, {"goto", "navigate"},
+        {"stop", "stop"},           {"stand", "stand"},        {"reset", "reset"}};
+    const std::string call = kCalls.at(command);
+    const flsd::CallResult r = client.Call(call, args, timeout);
+    int code = Report(r);
+    if (code == 0 && (call == "execute_skill" || call == "track_velocity" || call == "navigate")) {
+      code = FollowTask(client, call, quiet);
+    } else if (code == 0 && call == "stand") {
+      client.WaitForState([](const flsd::StateSample& s) { return s.msg.mode == flsd_msgs_MODE_STAND; }, timeout);
+      std::this_thread::sleep_for(std::chrono::seconds(1));  // hold control while it rises
+    }
+    client.ReleaseControl(timeout);
+    return code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "skillctl: %s\n", e.what());
+    return kExitNoServer;
+  }
+}

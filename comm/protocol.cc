@@ -1,0 +1,45 @@
+#include "comm/protocol.h"
+
+namespace flsd::dds {
+
+const char* ModeName(flsd_msgs_Mode mode) {
+  switch (mode) {
+    case flsd_msgs_MODE_IDLE: return "idle";
+    case flsd_msgs_MODE_STAND: return "stand";
+    case flsd_msgs_MODE_SKILL: return "skill";
+    case flsd_msgs_MODE_VELOCITY: return "velocity";
+    case flsd_msgs_MODE_NAVIGATE: return "navigate";
+    case flsd_msgs_MODE_DAMP: return "damp";
+  }
+  return "unknown";
+}
+
+const char* StatusName(flsd_msgs_ReplyStatus status) {
+  switch (status) {
+    case flsd_msgs_STATUS_OK: return "ok";
+    case flsd_msgs_STATUS_INVALID_ARGUMENT: return "invalid argument";
+    case flsd_msgs_STATUS_UNKNOWN_CALL: return "unknown call";
+    case flsd_msgs_STATUS_NOT_IN_CONTROL: return "not in control";
+    case flsd_msgs_STATUS_NOT_AVAILABLE: return "not available";
+    case flsd_msgs_STATUS_SAFETY_STOP: return "safety stop";
+    case flsd_msgs_STATUS_DUPLICATE: return "duplicate";
+    case flsd_msgs_STATUS_DEADLINE_EXCEEDED: return "deadline exceeded";
+    case flsd_msgs_STATUS_INTERNAL: return "internal error";
+  }
+  return "unknown status";
+}
+
+const char* TaskStateName(flsd_msgs_TaskState state) {
+  switch (state) {
+    case flsd_msgs_TASK_NONE: return "none";
+    case flsd_msgs_TASK_RUNNING: return "running";
+    case flsd_msgs_TASK_SUCCEEDED: return "succeeded";
+    case flsd_msgs_TASK_CANCELLED: return "cancelled";
+    case flsd_msgs_TASK_SAFETY_STOP: return "safety stop";
+    case flsd_msgs_TASK_PREEMPTED: return "preempted";
+    case flsd_msgs_TASK_LEASE_LOST: return "lease lost";
+  }
+  return "unknown";
+}
+
+}  // namespace flsd::dds

@@ -1,0 +1,237 @@
+#include "server/controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace flsd {
+namespace {
+
+int Ticks(double seconds) { return static_cast<int>(std::lround(seconds / a1::kControlDt)); }
+
+}  // namespace
+
+Controller::Controller(Backend& backend, const SkillLibrary& library, const ServerConfig& config)
+    : backend_(backend),
+      library_(library),
+      config_(config),
+      supervisor_(config.safety),
+      runner_(library),
+      policy_obs_(PolicyObservationSize(library.num_skills())) {
+  state_ = backend_.Read();
+  Publish();
+}
+
+bool Controller::Submit(const ControlRequest& request) {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  if (queue_count_ == kQueueSize) return false;
+  queue_[(queue_head_ + queue_count_) % kQueueSize] = request;
+  ++queue_count_;
+  return true;
+}
+
+void Controller::Tick() {
+  state_ = backend_.Read();
+  ++tick_;
+
+  // Supervise first: a trip overrides whatever a request asks for in this tick.
+  const std::string backend_fault = backend_.Fault();  // empty (no allocation) while healthy
+  uint32_t faults = backend_fault.empty() ? 0u : kFaultBackend;
+  if (MotorsActive()) {
+    // A robot rising from the floor is low until it has stood up.
+    const bool rising = mode_ == flsd_msgs_MODE_STAND && stand_ticks_ < stand_total_ticks_;
+    faults |= supervisor_.Check(state_, a1::kControlDt, !rising);
+  } else {
+    supervisor_.Reset();
+  }
+  if (faults != 0 && mode_ != flsd_msgs_MODE_DAMP) EnterDamp(faults);
+
+  for (;;) {
+    ControlRequest request;
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      if (queue_count_ == 0) break;
+      request = queue_[queue_head_];
+      queue_head_ = (queue_head_ + 1) % kQueueSize;
+      --queue_count_;
+    }
+    Apply(request);
+  }
+
+  JointCommand command;
+  switch (mode_) {
+    case flsd_msgs_MODE_STAND: command = StandCommand(); break;
+    case flsd_msgs_MODE_SKILL: command = SkillCommand(); break;
+    default: command = DampCommand(); break;
+  }
+  backend_.Send(command);
+
+  if (task_.state == flsd_msgs_TASK_RUNNING) {
+    task_.elapsed = static_cast<double>(tick_ - task_start_tick_) * a1::kControlDt;
+    const int stand_left = mode_ == flsd_msgs_MODE_STAND ? std::max(0, stand_total_ticks_ - stand_ticks_) : 0;
+    const int skill_left = mode_ == flsd_msgs_MODE_SKILL ? skill_ticks_left_ : pending_skill_ticks_;
+    task_.remaining = (stand_left + skill_left) * a1::kControlDt;
+  }
+  Publish();
+}
+
+bool Controller::MotorsActive() const {
+  return mode_ == flsd_msgs_MODE_STAND || mode_ == flsd_msgs_MODE_SKILL || mode_ == flsd_msgs_MODE_VELOCITY ||
+         mode_ == flsd_msgs_MODE_NAVIGATE;
+}
+
+void Controller::Apply(const ControlRequest& request) {
+  switch (request.kind) {
+    case ControlRequest::Kind::kStand:
+      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by stand");
+      latched_faults_ = 0;
+      fault_message_[0] = '\0';
+      if (mode_ != flsd_msgs_MODE_STAND) EnterStand();
+      pending_skill_ = -1;
+      break;
+    case ControlRequest::Kind::kSkill:
+      if (mode_ == flsd_msgs_MODE_DAMP) return;  // the request side refuses this; a trip raced it
+      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by a new skill");
+      StartTask(request, "execute_skill");
+      // Every skill starts from the default pose: the state its episodes started from in training.
+      EnterStand();
+      pending_skill_ = request.skill;
+      pending_skill_ticks_ = std::max(1, Ticks(request.duration));
+      break;
+    case ControlRequest::Kind::kStop:
+      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(request.stop_state, request.reason.data());
+      pending_skill_ = -1;
+      if (mode_ != flsd_msgs_MODE_DAMP && mode_ != flsd_msgs_MODE_IDLE && mode_ != flsd_msgs_MODE_STAND) EnterStand();
+      break;
+    case ControlRequest::Kind::kDamp:
+      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_CANCELLED, request.reason.data());
+      EnterDamp(kFaultStop);
+      break;
+    case ControlRequest::Kind::kReset:
+      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_CANCELLED, "the simulation was reset");
+      if (!backend_.CanReset()) return;
+      backend_.Reset();
+      state_ = backend_.Read();
+      latched_faults_ = 0;
+      fault_message_[0] = '\0';
+      pending_skill_ = -1;
+      EnterStand();
+      break;
+  }
+}
+
+void Controller::EnterStand() {
+  mode_ = flsd_msgs_MODE_STAND;
+  skill_ = -1;
+  stand_from_ = state_.joint_position;
+  double farthest = 0.0;
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    farthest = std::max(farthest, std::abs(a1::kDefaultJointPos[j] - stand_from_[j]));
+  }
+  stand_ticks_ = 0;
+  // Joint targets move to the default pose at stand_joint_speed, then hold for a settling half
+  // second, so that a skill starts from rest.
+  stand_move_ticks_ = std::max(1, Ticks(farthest / config_.stand_joint_speed));
+  stand_total_ticks_ = stand_move_ticks_ + Ticks(0.5);
+}
+
+void Controller::EnterDamp(uint32_t faults) {
+  if (task_.state == flsd_msgs_TASK_RUNNING) {
+    char message[192];
+    DescribeFaults(faults, state_, config_.safety, message, sizeof message);
+    EndTask(flsd_msgs_TASK_SAFETY_STOP, message);
+  }
+  mode_ = flsd_msgs_MODE_DAMP;
+  skill_ = -1;
+  pending_skill_ = -1;
+  latched_faults_ |= faults;
+  ++safety_trips_;
+  DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size());
+}
+
+void Controller::StartTask(const ControlRequest& request, const char* call) {
+  task_ = TaskStatus{};
+  task_.client_id = request.client_id;
+  task_.request_id = request.request_id;
+  SetText(task_.call, call);
+  task_.state = flsd_msgs_TASK_RUNNING;
+  task_start_tick_ = tick_;
+}
+
+void Controller::EndTask(flsd_msgs_TaskState state, const char* message) {
+  task_.state = state;
+  task_.remaining = 0.0;
+  SetText(task_.message, message);
+}
+
+JointCommand Controller::StandCommand() {
+  const double s = std::min(1.0, static_cast<double>(stand_ticks_) / stand_move_ticks_);
+  a1::JointArray<double> target;
+  for (int j = 0; j < a1::kNumJoints; ++j) target[j] = stand_from_[j] + s * (a1::kDefaultJointPos[j] - stand_from_[j]);
+  if (stand_ticks_ < stand_total_ticks_) ++stand_ticks_;
+  if (stand_ticks_ >= stand_total_ticks_ && pending_skill_ >= 0) {
+    mode_ = flsd_msgs_MODE_SKILL;
+    skill_ = pending_skill_;
+    skill_ticks_left_ = pending_skill_ticks_;
+    pending_skill_ = -1;
+    pending_skill_ticks_ = 0;
+    previous_action_.fill(0.0f);  // as at the start of a training episode
+  }
+  JointCommand command;
+  command.position = target;
+  command.kp.fill(config_.stand_kp);
+  command.kd.fill(config_.stand_kd);
+  return command;
+}
+
+JointCommand Controller::SkillCommand() {
+  BuildMotionObservation(state_, motion_obs_.data());
+  BuildPolicyObservation(motion_obs_.data(), previous_action_.data(), skill_, library_.num_skills(),
+                         policy_obs_.data());
+  runner_.Act(policy_obs_.data(), action_.data());
+  for (float a : action_) {
+    if (!std::isfinite(a)) {
+      EnterDamp(kFaultPolicy);
+      return DampCommand();
+    }
+  }
+  previous_action_ = action_;
+  a1::JointArray<double> target = JointTargetsFromAction(action_.data());
+  SafetySupervisor::ClampTargets(target);
+  if (--skill_ticks_left_ <= 0) {
+    EndTask(flsd_msgs_TASK_SUCCEEDED, "skill ran for its duration");
+    EnterStand();
+  }
+  return JointCommand::Track(target);
+}
+
+void Controller::Publish() {
+  {
+    std::lock_guard<std::mutex> lock(status_mutex_);
+    ControllerStatus& s = published_;
+    s.state = state_;
+    s.tick = tick_;
+    s.time = static_cast<double>(tick_) * a1::kControlDt;
+    s.mode = mode_;
+    s.skill = mode_ == flsd_msgs_MODE_SKILL ? skill_ : -1;
+    s.faults = latched_faults_;
+    s.fault_message = fault_message_;
+    s.safety_trips = safety_trips_;
+    s.task = task_;
+  }
+  status_changed_.notify_all();
+}
+
+ControllerStatus Controller::status() const {
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  return published_;
+}
+
+bool Controller::WaitForTickAfter(uint64_t tick, std::chrono::nanoseconds timeout, ControllerStatus& out) const {
+  std::unique_lock<std::mutex> lock(status_mutex_);
+  if (!status_changed_.wait_for(lock, timeout, [&] { return published_.tick > tick; })) return false;
+  out = published_;
+  return true;
+}
+
+}  // namespace flsd

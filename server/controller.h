@@ -1,0 +1,140 @@
+#pragma once
+// The control tick: modes (Idle, Stand, Skill k, Damp), the policy, and the safety supervisor,
+// in front of a Backend. Tick() runs on the control thread and allocates nothing; requests come
+// from the request thread through Submit(), and status() is a consistent copy for any thread.
+
+#include <array>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+
+#include "flsd_msgs.h"
+#include "robot/backend.h"
+#include "robot/observation.h"
+#include "server/safety.h"
+#include "server/server_config.h"
+#include "skills/runtime/skill_library.h"
+
+namespace flsd {
+
+using FixedText = std::array<char, 192>;
+using ClientId = std::array<char, 64>;  // client ids are shorter than this (checked on arrival)
+
+// Copies `text` into `out`, truncating; always terminated.
+template <std::size_t N>
+void SetText(std::array<char, N>& out, const char* text);
+
+// Which request a long call is, and how it is going (published as RobotState.task).
+struct TaskStatus {
+  ClientId client_id{};
+  uint64_t request_id = 0;
+  std::array<char, 24> call{};
+  flsd_msgs_TaskState state = flsd_msgs_TASK_NONE;
+  double elapsed = 0.0;    // s since the request was taken
+  double remaining = 0.0;  // s until it ends (standing up included)
+  FixedText message{};
+};
+
+// Everything the server publishes about one tick.
+struct ControllerStatus {
+  RobotState state;
+  uint64_t tick = 0;
+  double time = 0.0;  // s, tick * control period
+  flsd_msgs_Mode mode = flsd_msgs_MODE_IDLE;
+  int skill = -1;
+  uint32_t faults = 0;  // latched since the last stop; zero while none is latched
+  FixedText fault_message{};
+  uint64_t safety_trips = 0;  // ever; a client compares counts to learn of new trips
+  TaskStatus task;
+};
+
+// What the request side asks of the controller.
+struct ControlRequest {
+  enum class Kind { kStand, kSkill, kStop, kDamp, kReset };
+  Kind kind = Kind::kStand;
+  int skill = 0;
+  double duration = 0.0;  // s, kSkill
+  ClientId client_id{};
+  uint64_t request_id = 0;
+  flsd_msgs_TaskState stop_state = flsd_msgs_TASK_CANCELLED;  // kStop: how the current task ends
+  FixedText reason{};  // kStop, kDamp: why, for the task's message
+};
+
+class Controller {
+ public:
+  // `backend` and `library` must outlive the controller.
+  Controller(Backend& backend, const SkillLibrary& library, const ServerConfig& config);
+
+  // Queues a request for the next tick. Returns false if the queue is full (a flood).
+  bool Submit(const ControlRequest& request);
+
+  // One control period: read the state, supervise, apply queued requests, command the backend.
+  void Tick();
+
+  ControllerStatus status() const;
+  // Waits until a tick after `tick` has been published (or `timeout`); copies it to `out`.
+  bool WaitForTickAfter(uint64_t tick, std::chrono::nanoseconds timeout, ControllerStatus& out) const;
+
+  const SkillLibrary& library() const { return library_; }
+  const ServerConfig& config() const { return config_; }
+  bool backend_can_reset() const { return backend_.CanReset(); }
+
+ private:
+  static constexpr int kQueueSize = 16;
+
+  void Apply(const ControlRequest& request);
+  void EnterStand();
+  void EnterDamp(uint32_t faults);
+  void StartTask(const ControlRequest& request, const char* call);
+  void EndTask(flsd_msgs_TaskState state, const char* message);
+  JointCommand StandCommand();
+  JointCommand SkillCommand();
+  JointCommand DampCommand() const { return JointCommand::Damp(config_.safety.damping_kd); }
+  bool MotorsActive() const;
+  void Publish();
+
+  Backend& backend_;
+  const SkillLibrary& library_;
+  ServerConfig config_;
+  SafetySupervisor supervisor_;
+  PolicyRunner runner_;
+
+  // Control-thread state.
+  RobotState state_;
+  uint64_t tick_ = 0;
+  flsd_msgs_Mode mode_ = flsd_msgs_MODE_IDLE;
+  uint32_t latched_faults_ = 0;
+  FixedText fault_message_{};
+  uint64_t safety_trips_ = 0;
+  TaskStatus task_;
+  uint64_t task_start_tick_ = 0;
+  a1::JointArray<double> stand_from_{};
+  int stand_ticks_ = 0;
+  int stand_move_ticks_ = 1;   // moving the targets to the default pose
+  int stand_total_ticks_ = 1;  // then holding them while the robot settles
+  int pending_skill_ = -1;  // to start once standing
+  int pending_skill_ticks_ = 0;
+  int skill_ = -1;
+  int skill_ticks_left_ = 0;
+  std::array<float, kMotionObsSize> motion_obs_{};
+  std::array<float, kActionSize> action_{}, previous_action_{};
+  std::vector<float> policy_obs_;  // sized once, at construction
+
+  // Shared with other threads.
+  mutable std::mutex queue_mutex_;
+  std::array<ControlRequest, kQueueSize> queue_{};
+  int queue_head_ = 0, queue_count_ = 0;
+  mutable std::mutex status_mutex_;
+  mutable std::condition_variable status_changed_;
+  ControllerStatus published_;
+};
+
+template <std::size_t N>
+void SetText(std::array<char, N>& out, const char* text) {
+  std::size_t i = 0;
+  for (; text != nullptr && text[i] != '\0' && i + 1 < N; ++i) out[i] = text[i];
+  out[i] = '\0';
+}
+
+}  // namespace flsd

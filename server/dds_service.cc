@@ -1,0 +1,156 @@
+#include "server/dds_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "comm/protocol.h"
+
+namespace flsd {
+namespace {
+
+double MonotonicSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+char* Text(const std::string& s) { return const_cast<char*>(s.c_str()); }  // Cyclone only reads it
+char* Text(const char* s) { return const_cast<char*>(s); }
+
+}  // namespace
+
+DdsService::DdsService(const ServerConfig& config, Controller& controller, const ControlLoop& loop,
+                       std::string backend_name)
+    : controller_(controller),
+      loop_(loop),
+      backend_name_(std::move(backend_name)),
+      handler_(controller, config),
+      domain_(config.domain_id, config.partition),
+      requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos),
+      replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
+      states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
+      wake_(domain_) {
+  for (const SkillDescriptor& d : controller.library().skills()) {
+    flsd_msgs_SkillInfo info{};
+    info.id = d.id;
+    for (int i = 0; i < 3; ++i) {
+      info.linear_velocity[i] = d.mean_linear_velocity[i];
+      info.angular_velocity[i] = d.mean_angular_velocity[i];
+    }
+    info.base_height = d.mean_base_height;
+    info.gait_frequency = d.gait_frequency_hz;
+    info.survival_steps = d.survival_steps;
+    skills_.push_back(info);
+  }
+}
+
+void DdsService::Start() {
+  running_ = true;
+  request_thread_ = std::thread([this] { ServeRequests(); });
+  state_thread_ = std::thread([this] { PublishState(); });
+}
+
+void DdsService::Stop() {
+  if (!running_.exchange(false)) return;
+  wake_.Trigger();
+  if (request_thread_.joinable()) request_thread_.join();
+  if (state_thread_.joinable()) state_thread_.join();
+}
+
+void DdsService::ServeRequests() {
+  while (running_) {
+    requests_.Wait(std::chrono::milliseconds(50), wake_.get());
+    const double now = MonotonicSeconds();
+    handler_.Poll(now);
+    requests_.Take([&](const flsd_msgs_Request& request, const dds_sample_info_t&) {
+      try {
+        const std::optional<ReplyContent> reply = handler_.Handle(request, MonotonicSeconds(), dds_time());
+        if (reply) SendReply(request, *reply);
+      } catch (const std::exception& e) {
+        // Nothing a client sends may stop the server; say what went wrong instead.
+        spdlog::error("request '{}' from '{}' failed: {}", request.call ? request.call : "",
+                      request.header.client_id ? request.header.client_id : "", e.what());
+        ReplyContent internal;
+        internal.status = flsd_msgs_STATUS_INTERNAL;
+        internal.message = e.what();
+        SendReply(request, internal);
+      }
+    });
+    dropped_ = handler_.dropped();
+    std::lock_guard<std::mutex> lock(holder_mutex_);
+    holder_ = handler_.controller_id();
+  }
+}
+
+void DdsService::SendReply(const flsd_msgs_Request& request, const ReplyContent& content) {
+  flsd_msgs_Reply reply{};
+  reply.header.client_id = request.header.client_id ? request.header.client_id : Text("");
+  reply.header.request_id = request.header.request_id;
+  reply.header.deadline_ns = request.header.deadline_ns;
+  reply.status = content.status;
+  reply.message = Text(content.message);
+  reply.safety_report = Text(content.safety_report);
+  if (content.with_skills) {
+    reply.skills._buffer = skills_.data();
+    reply.skills._length = reply.skills._maximum = static_cast<uint32_t>(skills_.size());
+  }
+  try {
+    replies_.Write(reply);
+    ++replies_sent_;
+  } catch (const dds::Error& e) {
+    spdlog::warn("reply to '{}' request {} not sent: {}", reply.header.client_id, reply.header.request_id, e.what());
+  }
+}
+
+void DdsService::PublishState() {
+  ControllerStatus s;
+  uint64_t last_tick = controller_.status().tick;
+  std::string holder;
+  while (running_) {
+    if (!controller_.WaitForTickAfter(last_tick, std::chrono::milliseconds(100), s)) continue;
+    last_tick = s.tick;
+    {
+      std::lock_guard<std::mutex> lock(holder_mutex_);
+      holder = holder_;
+    }
+    flsd_msgs_RobotState m{};
+    m.time = s.time;
+    m.tick = s.tick;
+    m.backend = Text(backend_name_);
+    m.mode = s.mode;
+    m.skill = s.skill;
+    const RobotState& r = s.state;
+    for (int i = 0; i < 3; ++i) {
+      m.position[i] = r.base_position[i];
+      m.linear_velocity[i] = r.base_linear_velocity[i];
+      m.angular_velocity[i] = r.base_angular_velocity[i];
+    }
+    m.orientation[0] = r.base_orientation.w();
+    m.orientation[1] = r.base_orientation.x();
+    m.orientation[2] = r.base_orientation.y();
+    m.orientation[3] = r.base_orientation.z();
+    std::copy(r.joint_position.begin(), r.joint_position.end(), m.joint_position);
+    std::copy(r.joint_velocity.begin(), r.joint_velocity.end(), m.joint_velocity);
+    std::copy(r.joint_torque.begin(), r.joint_torque.end(), m.joint_torque);
+    std::copy(r.foot_contact.begin(), r.foot_contact.end(), m.foot_contact);
+    m.faults = s.faults;
+    m.fault_message = s.fault_message.data();
+    m.controller = Text(holder);
+    m.deadline_misses = loop_.deadline_misses();
+    m.requests_dropped = dropped_.load();
+    m.task.client_id = s.task.client_id.data();
+    m.task.request_id = s.task.request_id;
+    m.task.call = s.task.call.data();
+    m.task.state = s.task.state;
+    m.task.elapsed = s.task.elapsed;
+    m.task.remaining = s.task.remaining;
+    m.task.message = s.task.message.data();
+    try {
+      states_.Write(m);
+    } catch (const dds::Error& e) {
+      spdlog::warn("state sample not sent: {}", e.what());
+    }
+  }
+}
+
+}  // namespace flsd

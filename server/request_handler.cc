@@ -1,0 +1,242 @@
+#include "server/request_handler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "comm/protocol.h"
+
+namespace flsd {
+namespace {
+
+constexpr const char* kKnownCalls =
+    "list_skills, status, execute_skill, track_velocity, navigate, stop, stand, damp, acquire_control, "
+    "release_control, reset";
+
+ReplyContent Reply(flsd_msgs_ReplyStatus status, std::string message) {
+  ReplyContent r;
+  r.status = status;
+  r.message = std::move(message);
+  return r;
+}
+
+bool AllFinite(const double* values, int n) {
+  return std::all_of(values, values + n, [](double v) { return std::isfinite(v); });
+}
+
+std::string Seconds(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f s", s);
+  return text;
+}
+
+}  // namespace
+
+RequestHandler::RequestHandler(Controller& controller, const ServerConfig& config)
+    : controller_(controller), config_(config), lease_(config.lease_timeout) {}
+
+RequestHandler::ClientState& RequestHandler::Client(const std::string& id, double now) {
+  auto it = clients_.find(id);
+  if (it == clients_.end()) {
+    if (clients_.size() >= kMaxClients) {  // forget the longest-silent client
+      auto oldest = std::min_element(clients_.begin(), clients_.end(), [](const auto& a, const auto& b) {
+        return a.second.last_seen < b.second.last_seen;
+      });
+      clients_.erase(oldest);
+    }
+    ClientState fresh;
+    fresh.tokens = config_.request_burst;
+    fresh.last_seen = now;
+    fresh.reported_trips = controller_.status().safety_trips;  // a newcomer hears of trips to come
+    it = clients_.emplace(id, fresh).first;
+  }
+  return it->second;
+}
+
+bool RequestHandler::TakeToken(ClientState& client, double now) {
+  client.tokens = std::min<double>(config_.request_burst,
+                                   client.tokens + (now - client.last_seen) * config_.requests_per_second);
+  client.last_seen = now;
+  if (client.tokens < 1.0) return false;
+  client.tokens -= 1.0;
+  return true;
+}
+
+void RequestHandler::Poll(double now) {
+  const std::string holder = lease_.holder();
+  if (lease_.Expire(now)) {
+    ControlRequest stop;
+    stop.kind = ControlRequest::Kind::kStop;
+    stop.stop_state = flsd_msgs_TASK_LEASE_LOST;
+    SetText(stop.reason, ("control lease of " + holder + " lapsed after " + Seconds(lease_.timeout()) +
+                          " without a request; standing")
+                             .c_str());
+    controller_.Submit(stop);
+  }
+}
+
+std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& request, double now, int64_t wall_ns) {
+  Poll(now);
+  const std::string client_id = request.header.client_id != nullptr ? request.header.client_id : "";
+  if (client_id.empty() || client_id.size() > kMaxClientIdLength) {
+    return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT,
+                 "client_id must have 1 to " + std::to_string(kMaxClientIdLength) + " characters");
+  }
+  ClientState& client = Client(client_id, now);
+  if (!TakeToken(client, now)) {
+    ++dropped_;
+    return std::nullopt;
+  }
+  const uint64_t id = request.header.request_id;
+  if (client.seen_request && id <= client.last_request_id) {
+    return Reply(flsd_msgs_STATUS_DUPLICATE, "request_id " + std::to_string(id) + " is not above " +
+                                                 std::to_string(client.last_request_id) +
+                                                 ", the last one from this client; not executed");
+  }
+  client.seen_request = true;
+  client.last_request_id = id;
+  if (request.header.deadline_ns != 0 && wall_ns > request.header.deadline_ns) {
+    return Reply(flsd_msgs_STATUS_DEADLINE_EXCEEDED,
+                 "arrived " + Seconds(static_cast<double>(wall_ns - request.header.deadline_ns) * 1e-9) +
+                     " after its deadline; not executed");
+  }
+
+  ReplyContent reply = Dispatch(request, client_id, now);
+  const ControllerStatus status = controller_.status();
+  if (status.safety_trips > client.reported_trips) {
+    reply.safety_report = status.fault_message[0] != '\0' ? status.fault_message.data() : "safety stop";
+    client.reported_trips = status.safety_trips;
+  }
+  return reply;
+}
+
+ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const std::string& client_id, double now) {
+  const std::string call = request.call != nullptr ? request.call : "";
+  if (call == "list_skills") {
+    ReplyContent r = Reply(flsd_msgs_STATUS_OK, std::to_string(controller_.library().num_skills()) + " skills");
+    r.with_skills = true;
+    return r;
+  }
+  if (call == "status") return Reply(flsd_msgs_STATUS_OK, StatusText(controller_.status()));
+  if (call == "acquire_control") {
+    if (!lease_.Acquire(client_id, now)) {
+      return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "control is held by " + lease_.holder());
+    }
+    return Reply(flsd_msgs_STATUS_OK, "control granted; it lapses after " + Seconds(lease_.timeout()) +
+                                          " without a request from this client");
+  }
+  if (call == "release_control") {
+    if (!lease_.Release(client_id)) {
+      return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "this client does not hold control");
+    }
+    ControlRequest stop;
+    stop.kind = ControlRequest::Kind::kStop;
+    SetText(stop.reason, "control released");
+    Submit(stop, client_id, request.header.request_id);
+    return Reply(flsd_msgs_STATUS_OK, "control released; the robot stands");
+  }
+  if (call == "damp") {  // the emergency stop: anyone may press it
+    ControlRequest damp;
+    damp.kind = ControlRequest::Kind::kDamp;
+    SetText(damp.reason, ("emergency stop from " + client_id).c_str());
+    if (!Submit(damp, client_id, request.header.request_id)) {
+      return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; damp again");
+    }
+    return Reply(flsd_msgs_STATUS_OK, "damping; call stand to recover");
+  }
+  static const char* const kMotionCalls[] = {"execute_skill", "track_velocity", "navigate", "stop", "stand", "reset"};
+  if (std::find_if(std::begin(kMotionCalls), std::end(kMotionCalls), [&](const char* c) { return call == c; }) !=
+      std::end(kMotionCalls)) {
+    if (!lease_.Renew(client_id, now)) {
+      return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL,
+                   lease_.held() ? "control is held by " + lease_.holder()
+                                 : std::string("no client holds control; call acquire_control first"));
+    }
+    return Motion(request, client_id, now);
+  }
+  return Reply(flsd_msgs_STATUS_UNKNOWN_CALL, "unknown call '" + call + "'; known calls: " + kKnownCalls);
+}
+
+ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std::string& client_id, double now) {
+  const std::string call = request.call;
+  const ControllerStatus status = controller_.status();
+  const bool latched = status.faults != 0;
+  auto check_duration = [&](std::string& why) {
+    if (!std::isfinite(request.duration) || request.duration <= 0.0 || request.duration > config_.max_duration) {
+      why = "duration must be in (0, " + Seconds(config_.max_duration) + "], got " + std::to_string(request.duration);
+      return false;
+    }
+    return true;
+  };
+  std::string why;
+  ControlRequest control;
+  if (call == "execute_skill") {
+    const int k = request.skill;
+    if (k < 0 || k >= controller_.library().num_skills()) {
+      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "skill " + std::to_string(k) + " is not in [0, " +
+                                                          std::to_string(controller_.library().num_skills()) + ")");
+    }
+    if (!check_duration(why)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+    if (latched) {
+      return Reply(flsd_msgs_STATUS_SAFETY_STOP,
+                   std::string("a safety stop is latched (") + status.fault_message.data() + "); call stand first");
+    }
+    control.kind = ControlRequest::Kind::kSkill;
+    control.skill = k;
+    control.duration = request.duration;
+    if (!Submit(control, client_id, request.header.request_id)) {
+      return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+    }
+    return Reply(flsd_msgs_STATUS_OK, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
+                                          " accepted; progress is on the state topic");
+  }
+  if (call == "track_velocity" || call == "navigate") {
+    if (call == "track_velocity" && !AllFinite(request.velocity, 3)) {
+      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "velocity must be finite");
+    }
+    if (call == "track_velocity" && !check_duration(why)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+    if (call == "navigate" && !AllFinite(request.goal, 2)) {
+      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "goal must be finite");
+    }
+    return Reply(flsd_msgs_STATUS_NOT_AVAILABLE,
+                 call + " is not available: it needs a skill selector, and this server has none yet");
+  }
+  if (call == "reset" && !controller_.backend_can_reset()) {
+    return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "this backend cannot reset the robot; stand it up by hand");
+  }
+  if (call == "stand" && latched) {
+    // Standing clears a latched stop, but only once the robot is upright again.
+    SafetySupervisor probe(config_.safety);
+    const uint32_t still = probe.Check(status.state, 0.0, false) & kFaultTilt;
+    if (still != 0) {
+      char text[192];
+      DescribeFaults(still, status.state, config_.safety, text, sizeof text);
+      return Reply(flsd_msgs_STATUS_SAFETY_STOP, std::string("cannot stand: ") + text +
+                                                     (controller_.backend_can_reset() ? "; call reset" : "; put the robot upright"));
+    }
+  }
+  control.kind = call == "stand" ? ControlRequest::Kind::kStand
+                 : call == "stop" ? ControlRequest::Kind::kStop
+                                  : ControlRequest::Kind::kReset;
+  SetText(control.reason, ("stopped by " + client_id).c_str());
+  if (!Submit(control, client_id, request.header.request_id)) {
+    return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+  }
+  return Reply(flsd_msgs_STATUS_OK, call == "stand" ? "standing" : call == "stop" ? "stopping; the robot stands" : "reset");
+}
+
+bool RequestHandler::Submit(ControlRequest request, const std::string& client_id, uint64_t request_id) {
+  SetText(request.client_id, client_id.c_str());
+  request.request_id = request_id;
+  return controller_.Submit(request);
+}
+
+std::string RequestHandler::StatusText(const ControllerStatus& s) const {
+  std::string text = std::string("mode ") + dds::ModeName(s.mode);
+  if (s.skill >= 0) text += " " + std::to_string(s.skill);
+  text += ", t " + Seconds(s.time) + ", control " + (lease_.held() ? lease_.holder() : std::string("free"));
+  text += ", faults " + (s.faults != 0 ? std::string(s.fault_message.data()) : std::string("none"));
+  return text;
+}
+
+}  // namespace flsd

@@ -1,0 +1,65 @@
+#pragma once
+// Turns one DDS request into a reply and, when it asks for motion, into a ControlRequest for the
+// controller. Owns the control lease, per-client request ids and rate limits. Runs on the request
+// thread; time is passed in, so tests need no sleeps. Every request gets a reply with a reason,
+// except those dropped by the rate limit, which are counted.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+#include "flsd_msgs.h"
+#include "server/controller.h"
+#include "server/lease.h"
+
+namespace flsd {
+
+struct ReplyContent {
+  flsd_msgs_ReplyStatus status = flsd_msgs_STATUS_OK;
+  std::string message;
+  bool with_skills = false;   // list_skills: attach the library's skill descriptors
+  std::string safety_report;  // safety trips this client has not been told of
+};
+
+class RequestHandler {
+ public:
+  RequestHandler(Controller& controller, const ServerConfig& config);
+
+  // `now`: monotonic seconds; `wall_ns`: CLOCK_REALTIME ns (request deadlines are wall times).
+  // nullopt: dropped by the rate limit (counted in dropped()).
+  std::optional<ReplyContent> Handle(const flsd_msgs_Request& request, double now, int64_t wall_ns);
+
+  // Lets a silent controller's lease lapse; the robot then stands. Call at least every 50 ms.
+  void Poll(double now);
+
+  uint64_t dropped() const { return dropped_; }
+  const std::string& controller_id() const { return lease_.holder(); }
+
+  static constexpr std::size_t kMaxClientIdLength = sizeof(ClientId) - 1;
+  static constexpr std::size_t kMaxClients = 256;
+
+ private:
+  struct ClientState {
+    uint64_t last_request_id = 0;
+    bool seen_request = false;
+    double tokens = 0.0;
+    double last_seen = 0.0;
+    uint64_t reported_trips = 0;
+  };
+
+  ClientState& Client(const std::string& id, double now);
+  bool TakeToken(ClientState& client, double now);
+  ReplyContent Dispatch(const flsd_msgs_Request& request, const std::string& client_id, double now);
+  ReplyContent Motion(const flsd_msgs_Request& request, const std::string& client_id, double now);
+  bool Submit(ControlRequest request, const std::string& client_id, uint64_t request_id);
+  std::string StatusText(const ControllerStatus& status) const;
+
+  Controller& controller_;
+  ServerConfig config_;
+  ControlLease lease_;
+  std::unordered_map<std::string, ClientState> clients_;
+  uint64_t dropped_ = 0;
+};
+
+}  // namespace flsd

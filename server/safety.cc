@@ -1,0 +1,80 @@
+#include "server/safety.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace flsd {
+
+double SafetySupervisor::Tilt(const RobotState& state) {
+  const double cos_tilt = -state.ProjectedGravity().z();
+  return std::acos(std::clamp(cos_tilt, -1.0, 1.0));
+}
+
+uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_height) {
+  uint32_t faults = 0;
+  if (Tilt(state) > config_.max_tilt) faults |= kFaultTilt;
+  if (check_height && config_.min_base_height > 0.0 && state.base_position.z() < config_.min_base_height) {
+    faults |= kFaultLowBase;
+  }
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    const double q = state.joint_position[j];
+    if (!std::isfinite(q) || q < a1::JointMin(j) - config_.joint_range_margin ||
+        q > a1::JointMax(j) + config_.joint_range_margin) {
+      faults |= kFaultJointRange;
+    }
+    const double qd = state.joint_velocity[j];
+    if (!std::isfinite(qd) || std::abs(qd) > config_.max_joint_velocity) faults |= kFaultJointVelocity;
+    const bool saturated = std::abs(state.joint_torque[j]) >= a1::kTorqueLimit - 1e-6;
+    saturated_time_[j] = saturated ? saturated_time_[j] + dt : 0.0;
+    if (saturated_time_[j] > config_.max_torque_saturation) faults |= kFaultTorque;
+  }
+  return faults;
+}
+
+void SafetySupervisor::ClampTargets(a1::JointArray<double>& targets) {
+  for (int j = 0; j < a1::kNumJoints; ++j) targets[j] = std::clamp(targets[j], a1::JointMin(j), a1::JointMax(j));
+}
+
+void DescribeFaults(uint32_t faults, const RobotState& state, const SafetyConfig& config, char* out,
+                    std::size_t size) {
+  if (size == 0) return;
+  out[0] = '\0';
+  std::size_t used = 0;
+  auto add = [&](const char* fmt, auto... args) {
+    if (used >= size) return;
+    const int n = std::snprintf(out + used, size - used, fmt, used == 0 ? "" : "; ", args...);
+    if (n > 0) used = std::min(size - 1, used + static_cast<std::size_t>(n));
+  };
+  // The worst offending joint, for the joint-wise faults.
+  auto worst = [&](auto excess) {
+    int arg = 0;
+    for (int j = 1; j < a1::kNumJoints; ++j) {
+      if (excess(j) > excess(arg)) arg = j;
+    }
+    return arg;
+  };
+  if (faults & kFaultStop) add("%semergency stop");
+  if (faults & kFaultTilt) add("%stilt %.2f rad > %.2f", SafetySupervisor::Tilt(state), config.max_tilt);
+  if (faults & kFaultLowBase) add("%sbase height %.3f m < %.3f", state.base_position.z(), config.min_base_height);
+  if (faults & kFaultJointRange) {
+    const int j = worst([&](int k) {
+      const double q = state.joint_position[k];
+      return std::isfinite(q) ? std::max(a1::JointMin(k) - q, q - a1::JointMax(k)) : HUGE_VAL;
+    });
+    add("%s%s at %.3f rad, outside [%.3f, %.3f]", a1::kJointNames[j], state.joint_position[j], a1::JointMin(j),
+        a1::JointMax(j));
+  }
+  if (faults & kFaultJointVelocity) {
+    const int j = worst([&](int k) {
+      return std::isfinite(state.joint_velocity[k]) ? std::abs(state.joint_velocity[k]) : HUGE_VAL;
+    });
+    add("%s%s at %.1f rad/s > %.1f", a1::kJointNames[j], state.joint_velocity[j], config.max_joint_velocity);
+  }
+  if (faults & kFaultTorque) add("%storque at the %.1f N m limit for over %.2f s", a1::kTorqueLimit,
+                                 config.max_torque_saturation);
+  if (faults & kFaultBackend) add("%sbackend state not trusted");
+  if (faults & kFaultPolicy) add("%spolicy produced a non-finite action");
+}
+
+}  // namespace flsd

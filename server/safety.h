@@ -1,0 +1,52 @@
+#pragma once
+// The safety supervisor: checks every measured state while the motors hold the robot, and says
+// which limits are broken. The controller latches any trip into damping; it never exits.
+
+#include <cstdint>
+#include <cstddef>
+
+#include "robot/robot_state.h"
+#include "server/server_config.h"
+
+namespace flsd {
+
+// Fault bits, as published in telemetry (RobotState.faults).
+enum FaultBit : uint32_t {
+  kFaultTilt = 1u << 0,           // attitude beyond max_tilt: a fall
+  kFaultLowBase = 1u << 1,        // base below min_base_height: a fall
+  kFaultJointRange = 1u << 2,     // a joint outside its range by more than the margin
+  kFaultJointVelocity = 1u << 3,  // a joint faster than max_joint_velocity
+  kFaultTorque = 1u << 4,         // a joint at the torque limit for longer than allowed
+  kFaultBackend = 1u << 5,        // the backend's state cannot be trusted
+  kFaultPolicy = 1u << 6,         // the policy produced a non-finite action
+  kFaultStop = 1u << 7,           // an emergency stop (damp) from a client
+};
+
+// Writes "tilt 1.31 rad > 1.00; ..." for `faults` into out (always terminated).
+void DescribeFaults(uint32_t faults, const RobotState& state, const SafetyConfig& config, char* out,
+                    std::size_t size);
+
+class SafetySupervisor {
+ public:
+  explicit SafetySupervisor(const SafetyConfig& config) : config_(config) {}
+
+  // The limits `state` breaks, one control period `dt` after the previous check. Torque
+  // saturation is timed across calls; Reset() forgets it (call it when the motors go slack).
+  // `check_height`: false while the robot rises from the floor, where a low base is expected.
+  uint32_t Check(const RobotState& state, double dt, bool check_height = true);
+  void Reset() { saturated_time_.fill(0.0); }
+
+  // Clamps joint targets into the A1's joint ranges.
+  static void ClampTargets(a1::JointArray<double>& targets);
+
+  // The tilt from upright, rad.
+  static double Tilt(const RobotState& state);
+
+  const SafetyConfig& config() const { return config_; }
+
+ private:
+  SafetyConfig config_;
+  a1::JointArray<double> saturated_time_{};
+};
+
+}  // namespace flsd

@@ -1,0 +1,62 @@
+#pragma once
+// skilld's configuration (configs/server.yaml). Read strictly: an unknown key or an out-of-range
+// value is an error naming the file and key.
+
+#include <string>
+
+#include "core/config.h"
+#include "robot/a1.h"
+#include "sim/sim_backend.h"
+
+namespace flsd {
+
+struct SafetyConfig {
+  double max_tilt = 1.0;              // rad from upright (unitree_sdk2's G1 terminations use 1.0)
+  double min_base_height = 0.12;      // m; 0 turns the check off (an estimated height may drift)
+  double joint_range_margin = 0.1;    // rad a joint may be outside the A1's range before a trip
+  double max_joint_velocity = a1::kJointVelocityLimit;  // rad/s, the A1 motor's limit
+  double max_torque_saturation = 0.5;  // s a joint may sit at the torque limit
+  double damping_kd = 1.0;             // N m s / rad of the damped (safe) command
+  template <class V>
+  void Visit(V& v) {
+    v("max_tilt", max_tilt, Bounds<double>{0.1, 3.2});
+    v("min_base_height", min_base_height, Bounds<double>{0.0, 0.5});
+    v("joint_range_margin", joint_range_margin, Bounds<double>{0.0, 1.0});
+    v("max_joint_velocity", max_joint_velocity, Bounds<double>{1.0, 100.0});
+    v("max_torque_saturation", max_torque_saturation, Bounds<double>{0.02, 10.0});
+    v("damping_kd", damping_kd, Bounds<double>{0.0, 10.0});
+  }
+};
+
+struct ServerConfig {
+  int domain_id = 0;
+  std::string partition = "flsd";  // several robots share a domain by partition
+  double lease_timeout = 1.0;      // s without a request from the controlling client
+  double max_duration = 600.0;     // s, the longest skill or velocity command accepted
+  double stand_joint_speed = 1.5;  // rad/s at which stand moves joint targets to the default pose
+  double stand_kp = a1::kKp;       // PD gains while standing (the training gains by default)
+  double stand_kd = a1::kKd;
+  double requests_per_second = 100.0;  // per client; beyond it requests are dropped and counted
+  int request_burst = 50;
+  SafetyConfig safety;
+  SimBackendConfig sim;
+  template <class V>
+  void Visit(V& v) {
+    v("domain_id", domain_id, Bounds<int>{0, 232});
+    v("partition", partition);
+    v("lease_timeout", lease_timeout, Bounds<double>{0.1, 60.0});
+    v("max_duration", max_duration, Bounds<double>{0.1, 86400.0});
+    v("stand_joint_speed", stand_joint_speed, Bounds<double>{0.1, 10.0});
+    v("stand_kp", stand_kp, Bounds<double>{0.0, 200.0});
+    v("stand_kd", stand_kd, Bounds<double>{0.0, 10.0});
+    v("requests_per_second", requests_per_second, Bounds<double>{1.0, 100000.0});
+    v("request_burst", request_burst, Bounds<int>{1, 100000});
+    v("safety", safety);
+    v("sim", sim);
+  }
+};
+
+// Reads `path` (resolved with ResolveDataPath); every key is optional.
+ServerConfig LoadServerConfig(const std::string& path);
+
+}  // namespace flsd

@@ -1,0 +1,89 @@
+// skilld: the skill server. Hosts a skill library, drives a backend at 50 Hz, answers DDS
+// requests, and publishes the robot's state, until SIGINT or SIGTERM.
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <csignal>
+#include <memory>
+#include <thread>
+
+#include "core/check.h"
+#include "core/paths.h"
+#include "server/control_loop.h"
+#include "server/dds_service.h"
+#include "sim/sim_backend.h"
+
+namespace {
+
+constexpr int kExitBadInput = 2;
+
+std::unique_ptr<flsd::Backend> MakeBackend(const std::string& name, const flsd::ServerConfig& config) {
+  if (name == "sim") return std::make_unique<flsd::SimBackend>(config.sim);
+  throw flsd::InputError("--backend " + name + ": this build has no hardware backend yet; use --backend sim");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"skilld: the FLSD skill server for the Unitree A1"};
+  std::string backend_name = "sim", library_path, config_path = "configs/server.yaml", partition;
+  int domain_id = -1;
+  double run_seconds = 0.0;
+  app.add_option("--backend", backend_name, "sim (MuJoCo) or hw (the real A1)")->check(CLI::IsMember({"sim", "hw"}));
+  app.add_option("--library", library_path, "Skill library (.safetensors)")->required();
+  app.add_option("--config", config_path, "Server config (YAML)");
+  app.add_option("--domain", domain_id, "DDS domain id (default: the config's)")->check(CLI::Range(0, 232));
+  app.add_option("--partition", partition, "DDS partition (default: the config's)");
+  app.add_option("--run-seconds", run_seconds, "Stop by itself after this long (0: run until signalled)")
+      ->check(CLI::Range(0.0, 1e9));
+  CLI11_PARSE(app, argc, argv);
+
+  // Signals are taken by sigwait on this thread, never by a handler in another one.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  try {
+    flsd::ServerConfig config = flsd::LoadServerConfig(flsd::ResolveDataPath(config_path));
+    if (domain_id >= 0) config.domain_id = domain_id;
+    if (!partition.empty()) config.partition = partition;
+    const flsd::SkillLibrary library = flsd::SkillLibrary::Load(library_path);
+    std::unique_ptr<flsd::Backend> backend = MakeBackend(backend_name, config);
+
+    flsd::Controller controller(*backend, library, config);
+    flsd::ControlLoop loop(controller);
+    flsd::DdsService service(config, controller, loop, backend->name());
+    loop.Start();
+    service.Start();
+    spdlog::info("skilld ready: backend {}, library {} ({} skills), DDS domain {}, partition '{}'", backend->name(),
+                 library.path(), library.num_skills(), config.domain_id, config.partition);
+
+    int signal = 0;
+    if (run_seconds > 0.0) {
+      const timespec timeout{static_cast<time_t>(run_seconds), static_cast<long>((run_seconds - static_cast<long>(run_seconds)) * 1e9)};
+      signal = sigtimedwait(&signals, nullptr, &timeout);
+    } else {
+      sigwait(&signals, &signal);
+    }
+    spdlog::info("skilld stopping ({}): damping the robot", signal > 0 ? strsignal(signal) : "run time over");
+    service.Stop();
+    flsd::ControlRequest damp;
+    damp.kind = flsd::ControlRequest::Kind::kDamp;
+    flsd::SetText(damp.reason, "server shutting down");
+    controller.Submit(damp);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a few ticks of damping
+    loop.Stop();
+    spdlog::info("skilld stopped after {} ticks, {} deadline misses, {} replies", controller.status().tick,
+                 loop.deadline_misses(), service.replies_sent());
+    return 0;
+  } catch (const flsd::InputError& e) {
+    spdlog::error("{}", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    spdlog::error("skilld failed: {}", e.what());
+    return 1;
+  }
+}

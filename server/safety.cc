@@ -27,7 +27,8 @@ uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_
     if (!std::isfinite(qd) || std::abs(qd) > config_.max_joint_velocity) faults |= kFaultJointVelocity;
     const bool saturated = std::abs(state.joint_torque[j]) >= a1::kTorqueLimit - 1e-6;
     saturated_time_[j] = saturated ? saturated_time_[j] + dt : 0.0;
-    if (saturated_time_[j] > config_.max_torque_saturation) faults |= kFaultTorque;
+    // The tolerance keeps a whole number of ticks that sums to the limit from tripping early.
+    if (saturated_time_[j] > config_.max_torque_saturation + 1e-9) faults |= kFaultTorque;
   }
   return faults;
 }

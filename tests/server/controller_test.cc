@@ -1,0 +1,183 @@
+// Controller in lockstep with the real MuJoCo A1 and the shipped library: modes, transitions
+// through Stand, skill durations, latched stops, fall detection, backend faults, and a control
+// tick that allocates nothing.
+
+#include "server/controller.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+
+#include "tests/server/server_fixture.h"
+
+// Counts heap allocations while `g_count_mallocs` is set (interposes malloc for the process).
+extern "C" void* __libc_malloc(size_t size);
+static std::atomic<bool> g_count_mallocs{false};
+static std::atomic<long> g_mallocs{0};
+extern "C" void* malloc(size_t size) {
+  if (g_count_mallocs.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(size);
+}
+
+namespace flsd {
+namespace {
+
+using ::testing::HasSubstr;
+using Kind = ControlRequest::Kind;
+
+class ControllerTest : public testutil::ControllerFixture {};
+
+double MaxJointError(const RobotState& s) {
+  double worst = 0.0;
+  for (int j = 0; j < a1::kNumJoints; ++j) worst = std::max(worst, std::abs(s.joint_position[j] - a1::kDefaultJointPos[j]));
+  return worst;
+}
+
+TEST_F(ControllerTest, IdleDampsTheRobotDownToTheFloor) {
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+  EXPECT_EQ(RunFor(2.0, flsd_msgs_MODE_IDLE), 100);
+  EXPECT_LT(controller_.status().state.base_position.z(), 0.15);
+  EXPECT_EQ(controller_.status().faults, 0u);  // lying down while idle is no fault
+}
+
+TEST_F(ControllerTest, StandRisesFromTheFloorToTheDefaultPose) {
+  RunFor(2.0);
+  StandUp();
+  const ControllerStatus s = controller_.status();
+  EXPECT_GT(s.state.base_position.z(), 0.22);
+  // Kp = 20 (the training gains) holds 12.8 kg with some sag, as the policies saw in training.
+  EXPECT_LT(MaxJointError(s.state), 0.3);
+  EXPECT_EQ(s.faults, 0u);
+}
+
+TEST_F(ControllerTest, SkillRunsForItsDurationThenStands) {
+  StandUp();
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 2, 1.0)));
+  // Standing already, it still settles in the default pose for half a second first.
+  const int skill_ticks = RunFor(3.0, flsd_msgs_MODE_SKILL);
+  const ControllerStatus s = controller_.status();
+  EXPECT_EQ(skill_ticks, 50);
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SUCCEEDED);
+  EXPECT_EQ(s.task.request_id, 42u);
+  EXPECT_STREQ(s.task.client_id.data(), "test-client");
+  EXPECT_STREQ(s.task.call.data(), "execute_skill");
+  EXPECT_EQ(s.task.remaining, 0.0);
+}
+
+TEST_F(ControllerTest, ASkillFromIdleStandsUpFirstAndCountsTheStandInItsRemainingTime) {
+  RunFor(1.0);
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 1, 2.0)));
+  controller_.Tick();
+  const ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_RUNNING);
+  EXPECT_GT(s.task.remaining, 2.5);  // 2 s of skill after rising and settling
+  EXPECT_EQ(RunFor(6.0, flsd_msgs_MODE_SKILL), 100);
+  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_SUCCEEDED);
+}
+
+TEST_F(ControllerTest, DampLatchesUntilStandAndIgnoresSkillsMeanwhile) {
+  StandUp();
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 5.0)));
+  RunFor(1.0);
+  ControlRequest damp = Request(Kind::kDamp);
+  SetText(damp.reason, "emergency stop from test");
+  ASSERT_TRUE(controller_.Submit(damp));
+  controller_.Tick();
+  ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(s.faults & kFaultStop, kFaultStop);
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_CANCELLED);
+  EXPECT_STREQ(s.task.message.data(), "emergency stop from test");
+
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 5.0)));
+  RunFor(0.5);
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+
+  StandUp();
+  EXPECT_EQ(controller_.status().faults, 0u);
+}
+
+TEST_F(ControllerTest, AFallDuringASkillTripsToDampingAndEndsTheTask) {
+  StandUp();
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 5.0)));
+  RunFor(1.0);
+  // Knock the robot over: roll it 1.5 rad about its x axis.
+  mjData& d = backend_.env().data();
+  const int q = backend_.env().index().root_qpos;
+  const Eigen::Quaterniond rolled(Eigen::AngleAxisd(1.5, Eigen::Vector3d::UnitX()));
+  d.qpos[q + 3] = rolled.w();
+  d.qpos[q + 4] = rolled.x();
+  d.qpos[q + 5] = rolled.y();
+  d.qpos[q + 6] = rolled.z();
+  backend_.env().SyncState();
+  controller_.Tick();
+  const ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(s.faults & kFaultTilt, kFaultTilt);
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SAFETY_STOP);
+  EXPECT_THAT(s.task.message.data(), HasSubstr("tilt"));
+  EXPECT_THAT(s.fault_message.data(), HasSubstr("tilt"));
+  EXPECT_EQ(s.safety_trips, 1u);
+}
+
+TEST_F(ControllerTest, AnUnstableSimulationIsABackendFaultThatResetClears) {
+  StandUp();
+  backend_.env().data().qvel[0] = NAN;
+  controller_.Tick();  // the backend finds the fault while it steps...
+  controller_.Tick();  // ...and the supervisor reads it at the start of the next tick
+  ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(s.faults & kFaultBackend, kFaultBackend);
+  EXPECT_THAT(backend_.Fault(), HasSubstr("unstable simulation"));
+
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kReset)));
+  RunFor(1.0);
+  s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(s.faults, 0u);
+  EXPECT_GT(s.state.base_position.z(), 0.22);
+}
+
+TEST_F(ControllerTest, StopEndsASkillEarlyAndStands) {
+  StandUp();
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 3, 10.0)));
+  RunFor(1.5);
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  ControlRequest stop = Request(Kind::kStop);
+  stop.stop_state = flsd_msgs_TASK_LEASE_LOST;
+  SetText(stop.reason, "lease lapsed");
+  ASSERT_TRUE(controller_.Submit(stop));
+  controller_.Tick();
+  const ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_LEASE_LOST);
+  EXPECT_STREQ(s.task.message.data(), "lease lapsed");
+}
+
+TEST_F(ControllerTest, TheQueueRefusesRequestsBeyondItsSize) {
+  int accepted = 0;
+  while (controller_.Submit(Request(Kind::kStand)) && accepted < 1000) ++accepted;
+  EXPECT_EQ(accepted, 16);
+  controller_.Tick();  // drains it
+  EXPECT_TRUE(controller_.Submit(Request(Kind::kStand)));
+}
+
+TEST_F(ControllerTest, TheControlTickAllocatesNothing) {
+  StandUp();
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 1.5)));
+  RunFor(1.0);  // into the skill
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  g_mallocs = 0;
+  g_count_mallocs = true;
+  for (int i = 0; i < 100; ++i) controller_.Tick();  // skill, then stand again
+  g_count_mallocs = false;
+  EXPECT_EQ(g_mallocs.load(), 0);
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+}
+
+}  // namespace
+}  // namespace flsd

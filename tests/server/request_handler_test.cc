@@ -1,0 +1,212 @@
+// RequestHandler with injected time: the lease decides who may move the robot, bad input gets a
+// reply that says what is wrong, duplicates and late requests are not executed, floods are
+// dropped and counted, and a lapsed lease makes the robot stand.
+
+#include "server/request_handler.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "tests/server/server_fixture.h"
+
+namespace flsd {
+namespace {
+
+using ::testing::HasSubstr;
+
+// A request whose strings live as long as it does.
+struct TestRequest {
+  std::string client, call;
+  flsd_msgs_Request msg{};
+  TestRequest(std::string client_id, uint64_t id, std::string call_name) : client(std::move(client_id)), call(std::move(call_name)) {
+    msg.header.client_id = client.data();
+    msg.header.request_id = id;
+    msg.call = call.data();
+    msg.map_yaml = const_cast<char*>("");
+  }
+};
+
+class RequestHandlerTest : public testutil::ControllerFixture {
+ protected:
+  RequestHandlerTest() : handler_(controller_, config_) {}
+
+  ReplyContent Send(const std::string& client, const std::string& call, double now = 0.0,
+                    void (*edit)(flsd_msgs_Request&) = nullptr) {
+    TestRequest r(client, ++ids_[client], call);
+    if (edit != nullptr) edit(r.msg);
+    std::optional<ReplyContent> reply = handler_.Handle(r.msg, now, kWallNow);
+    EXPECT_TRUE(reply.has_value()) << call << " was dropped";
+    return reply.value_or(ReplyContent{});
+  }
+  ReplyContent Skill(const std::string& client, int skill, double duration, double now = 0.0) {
+    TestRequest r(client, ++ids_[client], "execute_skill");
+    r.msg.skill = skill;
+    r.msg.duration = duration;
+    return handler_.Handle(r.msg, now, kWallNow).value_or(ReplyContent{});
+  }
+
+  static constexpr int64_t kWallNow = 1'000'000'000'000;
+  RequestHandler handler_;
+  std::map<std::string, uint64_t> ids_;
+};
+
+TEST_F(RequestHandlerTest, ListAndStatusNeedNoControl) {
+  const ReplyContent list = Send("a", "list_skills");
+  EXPECT_EQ(list.status, flsd_msgs_STATUS_OK);
+  EXPECT_TRUE(list.with_skills);
+  const ReplyContent status = Send("a", "status");
+  EXPECT_EQ(status.status, flsd_msgs_STATUS_OK);
+  EXPECT_THAT(status.message, HasSubstr("mode idle"));
+  EXPECT_THAT(status.message, HasSubstr("control free"));
+}
+
+TEST_F(RequestHandlerTest, MotionNeedsTheLeaseAndOnlyItsHolderMoves) {
+  EXPECT_THAT(Send("a", "stand").message, HasSubstr("call acquire_control first"));
+  EXPECT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  const ReplyContent refused = Send("b", "acquire_control", 0.1);
+  EXPECT_EQ(refused.status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  EXPECT_THAT(refused.message, HasSubstr("held by a"));
+  EXPECT_EQ(Skill("b", 0, 1.0, 0.2).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  EXPECT_EQ(Send("b", "stop", 0.3).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  EXPECT_EQ(Skill("a", 0, 1.0, 0.4).status, flsd_msgs_STATUS_OK);
+}
+
+TEST_F(RequestHandlerTest, AnyClientMayDamp) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  const ReplyContent skill = Skill("a", 0, 1.0, 0.2);
+  EXPECT_EQ(skill.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_THAT(skill.message, HasSubstr("call stand first"));
+}
+
+TEST_F(RequestHandlerTest, BadArgumentsAreRefusedWithTheReason) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  const int k = controller_.library().num_skills();
+  EXPECT_THAT(Skill("a", k, 1.0).message, HasSubstr("skill " + std::to_string(k) + " is not in [0, "));
+  EXPECT_THAT(Skill("a", -1, 1.0).message, HasSubstr("is not in"));
+  for (double bad : {0.0, -1.0, double(NAN), double(INFINITY), 1e9}) {
+    const ReplyContent r = Skill("a", 0, bad);
+    EXPECT_EQ(r.status, flsd_msgs_STATUS_INVALID_ARGUMENT) << bad;
+    EXPECT_THAT(r.message, HasSubstr("duration must be in (0, 600.00 s]")) << bad;
+  }
+  const ReplyContent vel = Send("a", "track_velocity", 0.0, [](flsd_msgs_Request& r) {
+    r.velocity[1] = NAN;
+    r.duration = 1.0;
+  });
+  EXPECT_EQ(vel.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_THAT(vel.message, HasSubstr("velocity must be finite"));
+  EXPECT_EQ(Send("a", "navigate", 0.0, [](flsd_msgs_Request& r) { r.goal[0] = INFINITY; }).status,
+            flsd_msgs_STATUS_INVALID_ARGUMENT);
+}
+
+TEST_F(RequestHandlerTest, CallsThatNeedTheSelectorSaySoUntilItExists) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  const ReplyContent r = Send("a", "track_velocity", 0.0, [](flsd_msgs_Request& m) { m.duration = 1.0; });
+  EXPECT_EQ(r.status, flsd_msgs_STATUS_NOT_AVAILABLE);
+  EXPECT_THAT(r.message, HasSubstr("selector"));
+}
+
+TEST_F(RequestHandlerTest, UnknownCallsAndBadClientIdsAreAnswered) {
+  const ReplyContent r = Send("a", "fly");
+  EXPECT_EQ(r.status, flsd_msgs_STATUS_UNKNOWN_CALL);
+  EXPECT_THAT(r.message, HasSubstr("unknown call 'fly'; known calls: list_skills"));
+  EXPECT_EQ(Send("", "status").status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_THAT(Send(std::string(64, 'x'), "status").message, HasSubstr("1 to 63 characters"));
+}
+
+TEST_F(RequestHandlerTest, RepeatedOrOldRequestIdsAreNotExecuted) {
+  TestRequest first("a", 10, "acquire_control");
+  ASSERT_EQ(handler_.Handle(first.msg, 0.0, kWallNow)->status, flsd_msgs_STATUS_OK);
+  TestRequest again("a", 10, "stand");
+  const ReplyContent r = *handler_.Handle(again.msg, 0.1, kWallNow);
+  EXPECT_EQ(r.status, flsd_msgs_STATUS_DUPLICATE);
+  EXPECT_THAT(r.message, HasSubstr("request_id 10 is not above 10"));
+  TestRequest older("a", 9, "stand");
+  EXPECT_EQ(handler_.Handle(older.msg, 0.2, kWallNow)->status, flsd_msgs_STATUS_DUPLICATE);
+  TestRequest other("b", 10, "status");  // ids are per client
+  EXPECT_EQ(handler_.Handle(other.msg, 0.3, kWallNow)->status, flsd_msgs_STATUS_OK);
+}
+
+TEST_F(RequestHandlerTest, RequestsPastTheirDeadlineAreNotExecuted) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  TestRequest late("a", 100, "stand");
+  late.msg.header.deadline_ns = kWallNow - 250'000'000;
+  const ReplyContent r = *handler_.Handle(late.msg, 0.1, kWallNow);
+  EXPECT_EQ(r.status, flsd_msgs_STATUS_DEADLINE_EXCEEDED);
+  EXPECT_THAT(r.message, HasSubstr("arrived 0.25 s after its deadline"));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+}
+
+TEST_F(RequestHandlerTest, AFloodIsDroppedAndCountedAndTheServerKeepsAnswering) {
+  int answered = 0;
+  for (uint64_t id = 1; id <= 1000; ++id) {
+    TestRequest r("flood", id, "status");
+    answered += handler_.Handle(r.msg, 5.0, kWallNow).has_value();
+  }
+  EXPECT_EQ(answered, config_.request_burst);
+  EXPECT_EQ(handler_.dropped(), 1000u - config_.request_burst);
+  EXPECT_EQ(Send("calm", "status", 5.0).status, flsd_msgs_STATUS_OK);  // others are unaffected
+  TestRequest later("flood", 1001, "status");  // a second later the bucket has refilled
+  EXPECT_TRUE(handler_.Handle(later.msg, 6.0, kWallNow).has_value());
+}
+
+TEST_F(RequestHandlerTest, ASilentControllerLosesTheLeaseAndTheRobotStands) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Skill("a", 0, 30.0, 0.0).status, flsd_msgs_STATUS_OK);
+  for (int i = 0; i < 150; ++i) controller_.Tick();  // rise, settle, start the skill
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  handler_.Poll(0.9);
+  controller_.Tick();
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);  // not yet lapsed
+  handler_.Poll(1.01);
+  controller_.Tick();
+  const ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_LEASE_LOST);
+  EXPECT_THAT(s.task.message.data(), HasSubstr("control lease of a lapsed"));
+  EXPECT_EQ(handler_.controller_id(), "");
+  EXPECT_EQ(Send("b", "acquire_control", 1.1).status, flsd_msgs_STATUS_OK);
+}
+
+TEST_F(RequestHandlerTest, StandIsRefusedWhileTheRobotLiesOnItsSide) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "stand").status, flsd_msgs_STATUS_OK);
+  for (int i = 0; i < 150; ++i) controller_.Tick();
+  mjData& d = backend_.env().data();
+  d.qpos[backend_.env().index().root_qpos + 3] = std::cos(0.8);  // roll 1.6 rad
+  d.qpos[backend_.env().index().root_qpos + 4] = std::sin(0.8);
+  backend_.env().SyncState();
+  controller_.Tick();
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  const ReplyContent r = Send("a", "stand", 0.5);
+  EXPECT_EQ(r.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_THAT(r.message, HasSubstr("cannot stand: tilt"));
+  EXPECT_THAT(r.message, HasSubstr("call reset"));
+  // The trip is reported once, in the first reply after it, to each client.
+  EXPECT_THAT(r.safety_report, HasSubstr("tilt"));
+  EXPECT_EQ(Send("a", "status", 0.6).safety_report, "");
+  EXPECT_EQ(Send("a", "reset", 0.7).status, flsd_msgs_STATUS_OK);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+}
+
+TEST_F(RequestHandlerTest, ReleasingControlStopsTheMotion) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Skill("a", 0, 30.0).status, flsd_msgs_STATUS_OK);
+  for (int i = 0; i < 150; ++i) controller_.Tick();
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  EXPECT_EQ(Send("a", "release_control", 0.5).status, flsd_msgs_STATUS_OK);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_CANCELLED);
+  EXPECT_EQ(Send("a", "release_control", 0.6).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+}
+
+}  // namespace
+}  // namespace flsd

@@ -1,0 +1,129 @@
+// SafetySupervisor: each limit trips at its threshold and not below it, torque saturation is
+// timed, targets are clamped into the joint ranges, and the fault text names the culprit.
+
+#include "server/safety.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace flsd {
+namespace {
+
+using ::testing::HasSubstr;
+
+RobotState Standing() {
+  RobotState s;
+  s.base_position = {0.0, 0.0, 0.27};
+  s.joint_position = a1::kDefaultJointPos;
+  return s;
+}
+
+RobotState Rolled(double angle) {
+  RobotState s = Standing();
+  s.base_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()));
+  return s;
+}
+
+TEST(SafetySupervisor, StandingRobotBreaksNoLimit) {
+  SafetySupervisor supervisor{SafetyConfig{}};
+  EXPECT_EQ(supervisor.Check(Standing(), 0.02), 0u);
+}
+
+TEST(SafetySupervisor, TiltIsTheAngleFromUpright) {
+  EXPECT_NEAR(SafetySupervisor::Tilt(Rolled(0.7)), 0.7, 1e-9);
+  EXPECT_NEAR(SafetySupervisor::Tilt(Rolled(-2.5)), 2.5, 1e-9);
+}
+
+TEST(SafetySupervisor, TiltTripsJustPastTheLimit) {
+  SafetyConfig config;
+  config.max_tilt = 1.0;
+  SafetySupervisor supervisor(config);
+  EXPECT_EQ(supervisor.Check(Rolled(0.99), 0.02), 0u);
+  EXPECT_EQ(supervisor.Check(Rolled(1.01), 0.02), kFaultTilt);
+}
+
+TEST(SafetySupervisor, LowBaseTripsUnlessHeightIsNotChecked) {
+  SafetyConfig config;
+  config.min_base_height = 0.12;
+  SafetySupervisor supervisor(config);
+  RobotState s = Standing();
+  s.base_position.z() = 0.11;
+  EXPECT_EQ(supervisor.Check(s, 0.02), kFaultLowBase);
+  EXPECT_EQ(supervisor.Check(s, 0.02, /*check_height=*/false), 0u);
+  config.min_base_height = 0.0;  // off
+  EXPECT_EQ(SafetySupervisor(config).Check(s, 0.02), 0u);
+}
+
+TEST(SafetySupervisor, JointOutsideItsRangeByMoreThanTheMarginTrips) {
+  SafetyConfig config;
+  config.joint_range_margin = 0.1;
+  SafetySupervisor supervisor(config);
+  RobotState s = Standing();
+  s.joint_position[2] = a1::JointMin(2) - 0.09;  // FR calf, inside the margin
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+  s.joint_position[2] = a1::JointMin(2) - 0.11;
+  EXPECT_EQ(supervisor.Check(s, 0.02), kFaultJointRange);
+  s.joint_position[2] = NAN;
+  EXPECT_EQ(supervisor.Check(s, 0.02), kFaultJointRange);
+}
+
+TEST(SafetySupervisor, JointVelocityTripsAboveTheLimit) {
+  SafetySupervisor supervisor{SafetyConfig{}};
+  RobotState s = Standing();
+  s.joint_velocity[7] = -20.9;
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+  s.joint_velocity[7] = -21.1;
+  EXPECT_EQ(supervisor.Check(s, 0.02), kFaultJointVelocity);
+}
+
+TEST(SafetySupervisor, TorqueSaturationTripsAfterItsTimeAndResetsWhenItEnds) {
+  SafetyConfig config;
+  config.max_torque_saturation = 0.5;
+  SafetySupervisor supervisor(config);
+  RobotState s = Standing();
+  s.joint_torque[4] = a1::kTorqueLimit;
+  // 25 ticks of 20 ms reach exactly 0.5 s: not yet over it.
+  for (int tick = 0; tick < 25; ++tick) ASSERT_EQ(supervisor.Check(s, 0.02), 0u) << "tick " << tick;
+  EXPECT_EQ(supervisor.Check(s, 0.02), kFaultTorque);
+
+  s.joint_torque[4] = 10.0;  // off the limit: the clock restarts
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+  s.joint_torque[4] = -a1::kTorqueLimit;
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+  supervisor.Reset();
+  for (int tick = 0; tick < 25; ++tick) ASSERT_EQ(supervisor.Check(s, 0.02), 0u);
+}
+
+TEST(SafetySupervisor, ClampTargetsKeepsEveryJointInItsRange) {
+  a1::JointArray<double> q;
+  q.fill(10.0);
+  q[0] = -10.0;
+  q[5] = -1.0;  // FL calf: inside its range, unchanged
+  SafetySupervisor::ClampTargets(q);
+  EXPECT_DOUBLE_EQ(q[0], a1::JointMin(0));
+  EXPECT_DOUBLE_EQ(q[1], a1::JointMax(1));
+  EXPECT_DOUBLE_EQ(q[2], a1::JointMax(2));
+  EXPECT_DOUBLE_EQ(q[5], -1.0);
+}
+
+TEST(DescribeFaults, NamesEachFaultWithItsValue) {
+  SafetyConfig config;
+  RobotState s = Rolled(1.31);
+  s.joint_velocity[10] = 30.0;
+  char text[192];
+  DescribeFaults(kFaultTilt | kFaultJointVelocity, s, config, text, sizeof text);
+  EXPECT_THAT(text, HasSubstr("tilt 1.31 rad > 1.00"));
+  EXPECT_THAT(text, HasSubstr("RL_thigh_joint at 30.0 rad/s > 21.0"));
+  EXPECT_THAT(text, HasSubstr("; "));
+}
+
+TEST(DescribeFaults, TruncatesSafelyIntoASmallBuffer) {
+  char text[12];
+  DescribeFaults(kFaultTilt | kFaultStop | kFaultBackend, Rolled(2.0), SafetyConfig{}, text, sizeof text);
+  EXPECT_EQ(std::string(text).size(), sizeof text - 1);
+}
+
+}  // namespace
+}  // namespace flsd

@@ -1,0 +1,172 @@
+// The real skilld process over real DDS on loopback, driven by flsd::Client: a skill runs end to
+// end, control is exclusive and lapses, bad and flooding requests are answered or counted while
+// the server keeps running, and SIGTERM stops it cleanly with the robot damped.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <csignal>
+
+#include "client/client.h"
+#include "comm/protocol.h"
+#include "skills/runtime/skill_library.h"
+#include "tests/common/skilld_fixture.h"
+
+namespace flsd {
+namespace {
+
+using namespace std::chrono_literals;
+using ::testing::HasSubstr;
+
+class SkilldTest : public testutil::SkilldFixture {
+ protected:
+  std::unique_ptr<Client> Connect(std::chrono::milliseconds heartbeat = 250ms) {
+    Client::Options options;
+    options.domain_id = domain_;
+    options.partition = partition_;
+    options.heartbeat = heartbeat;
+    auto client = std::make_unique<Client>(options);
+    EXPECT_TRUE(client->WaitForServer(15s)) << server_->Log();
+    return client;
+  }
+  static bool Standing(const StateSample& s) {
+    return s.msg.mode == flsd_msgs_MODE_STAND && s.msg.position[2] > 0.22;
+  }
+};
+
+TEST_F(SkilldTest, AClientListsSkillsStandsAndRunsASkillToItsEnd) {
+  StartServer();
+  auto client = Connect();
+  const SkillLibrary library = SkillLibrary::Load(FLSD_SOURCE_DIR "/models/a1_flsd.safetensors");
+  const CallResult list = client->Call("list_skills");
+  ASSERT_TRUE(list.ok()) << list.Describe();
+  ASSERT_EQ(static_cast<int>(list.skills.size()), library.num_skills());
+  EXPECT_EQ(list.skills[1].survival_steps, library.skills()[1].survival_steps);
+
+  ASSERT_TRUE(client->AcquireControl().ok());
+  ASSERT_TRUE(client->Call("stand").ok());
+  ASSERT_TRUE(client->WaitForState(Standing, 10s)) << "the robot did not stand";
+
+  CallArgs args;
+  args.skill = 0;
+  args.duration = 2.0;
+  const CallResult r = client->Call("execute_skill", args);
+  ASSERT_TRUE(r.ok()) << r.Describe();
+  const auto running = client->WaitForState(
+      [](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_SKILL && s.msg.skill == 0; }, 5s);
+  ASSERT_TRUE(running) << "the skill did not start";
+  EXPECT_EQ(running->task_call, "execute_skill");
+  EXPECT_EQ(running->task_client_id, client->id());
+  EXPECT_EQ(running->controller, client->id());
+
+  const auto done = client->WaitForState(
+      [](const StateSample& s) { return s.msg.task.state != flsd_msgs_TASK_RUNNING && s.task_call == "execute_skill"; },
+      10s);
+  ASSERT_TRUE(done);
+  EXPECT_EQ(done->msg.task.state, flsd_msgs_TASK_SUCCEEDED) << done->task_message;
+  EXPECT_EQ(done->msg.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(done->msg.faults, 0u);
+  EXPECT_EQ(done->backend, "sim");
+}
+
+TEST_F(SkilldTest, StateArrivesAtTheControlRate) {
+  StartServer();
+  auto client = Connect();
+  const auto first = client->WaitForState([](const StateSample&) { return true; }, 5s);
+  ASSERT_TRUE(first);
+  std::this_thread::sleep_for(1s);
+  const auto later = client->LatestState();
+  const double ticks_per_second = static_cast<double>(later->msg.tick - first->msg.tick) / 1.0;
+  EXPECT_NEAR(ticks_per_second, 50.0, 6.0);
+  EXPECT_NEAR(later->msg.time - first->msg.time, (later->msg.tick - first->msg.tick) * 0.02, 1e-9);
+}
+
+TEST_F(SkilldTest, OnlyTheControllerMovesTheRobotButAnyoneMayDamp) {
+  StartServer();
+  auto owner = Connect();
+  auto observer = Connect();
+  ASSERT_TRUE(owner->AcquireControl().ok());
+  const CallResult refused = observer->Call("stand");
+  EXPECT_EQ(refused.status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  EXPECT_THAT(refused.message, HasSubstr(owner->id()));
+  EXPECT_EQ(observer->AcquireControl().status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+
+  ASSERT_TRUE(owner->Call("stand").ok());
+  ASSERT_TRUE(owner->WaitForState(Standing, 10s));
+  ASSERT_TRUE(observer->Call("damp").ok());
+  const auto damped = observer->WaitForState([](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_DAMP; }, 5s);
+  ASSERT_TRUE(damped);
+  EXPECT_THAT(damped->fault_message, HasSubstr("emergency stop"));
+  // The owner hears of the stop in its next reply.
+  const CallResult next = owner->Call("status");
+  EXPECT_THAT(next.safety_report, HasSubstr("emergency stop"));
+}
+
+TEST_F(SkilldTest, BadRequestsAreAnsweredAndFloodsCountedWhileTheServerRuns) {
+  StartServer();
+  auto client = Connect();
+  ASSERT_TRUE(client->AcquireControl().ok());
+  CallArgs bad;
+  bad.skill = 1000;
+  bad.duration = 1.0;
+  EXPECT_EQ(client->Call("execute_skill", bad).status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  bad.skill = 0;
+  bad.duration = NAN;
+  EXPECT_EQ(client->Call("execute_skill", bad).status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_EQ(client->Call("self_destruct").status, flsd_msgs_STATUS_UNKNOWN_CALL);
+
+  // A flood from a raw writer, faster than any client should send.
+  dds::Domain domain(domain_, partition_);
+  dds::Writer<flsd_msgs_Request> writer(domain, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos);
+  for (int i = 0; i < 500 && writer.matched_readers() == 0; ++i) std::this_thread::sleep_for(10ms);
+  std::string id = "flooder", call = "status";
+  for (uint64_t n = 1; n <= 2000; ++n) {
+    flsd_msgs_Request r{};
+    r.header.client_id = id.data();
+    r.header.request_id = n;
+    r.call = call.data();
+    r.map_yaml = const_cast<char*>("");
+    writer.Write(r);
+  }
+  const auto counted =
+      client->WaitForState([](const StateSample& s) { return s.msg.requests_dropped > 0; }, 10s);
+  ASSERT_TRUE(counted) << "no dropped requests were counted";
+  EXPECT_TRUE(client->Call("status").ok());
+  EXPECT_EQ(client->LatestState()->controller, client->id());  // control kept through the flood
+}
+
+TEST_F(SkilldTest, ASilentControllerLosesTheLeaseAndTheRobotStands) {
+  StartServer();
+  auto client = Connect(/*heartbeat=*/std::chrono::hours(1));  // renews never
+  ASSERT_TRUE(client->AcquireControl().ok());
+  CallArgs args;
+  args.skill = 0;
+  args.duration = 60.0;
+  ASSERT_TRUE(client->Call("execute_skill", args).ok());
+  const auto lost = client->WaitForState(
+      [](const StateSample& s) { return s.msg.task.state == flsd_msgs_TASK_LEASE_LOST; }, 10s);
+  ASSERT_TRUE(lost);
+  EXPECT_THAT(lost->task_message, HasSubstr("lapsed"));
+  EXPECT_EQ(lost->controller, "");
+}
+
+TEST_F(SkilldTest, SigtermDampsTheRobotAndExitsCleanly) {
+  StartServer();
+  auto client = Connect();
+  client.reset();
+  server_->Signal(SIGTERM);
+  EXPECT_EQ(server_->Wait(), 0) << server_->Log();
+  EXPECT_THAT(server_->Log(), HasSubstr("damping the robot"));
+}
+
+TEST_F(SkilldTest, AMissingLibraryIsABadInputExitNamingTheFile) {
+  const auto [code, log] = testutil::RunProgram(
+      testutil::BinaryPath("skilld"), {"--library", "/nonexistent/lib.safetensors", "--domain", "0"},
+      testutil::UniqueTempPath("skilld.log"));
+  EXPECT_EQ(code, 2);
+  EXPECT_THAT(log, HasSubstr("/nonexistent/lib.safetensors"));
+}
+
+}  // namespace
+}  // namespace flsd

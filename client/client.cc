@@ -21,6 +21,8 @@ std::string MakeClientId() {
 
 std::string Own(const char* s) { return s != nullptr ? s : ""; }
 
+constexpr std::chrono::microseconds kSpin{1000};
+
 }  // namespace
 
 std::string CallResult::Describe() const {
@@ -35,9 +37,10 @@ Client::Client(const Options& options)
       options_(options),
       domain_(options.domain_id, options.partition),
       requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos),
-      replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
       states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
-      wake_(domain_) {
+      wake_(domain_),
+      reply_listener_(&Client::OnReplies, this),
+      replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos, &reply_listener_) {
   // Request ids grow across client restarts with a fixed id, too: start from the wall clock.
   next_request_id_ = static_cast<uint64_t>(dds_time());
   background_ = std::thread([this] { Background(); });
@@ -77,24 +80,44 @@ CallResult Client::Call(const std::string& call, const CallArgs& args, std::chro
   std::copy(args.goal.begin(), args.goal.end(), request.goal);
   request.map_yaml = const_cast<char*>(args.map_yaml.c_str());
 
-  CallResult result;
-  requests_.Write(request);
-  const auto until = std::chrono::steady_clock::now() + timeout;
-  while (!result.answered) {
-    const auto left = until - std::chrono::steady_clock::now();
-    if (left <= std::chrono::nanoseconds::zero()) break;
-    replies_.Wait(left);
-    // Replies to every client share the topic; keep only the answer to this request.
-    replies_.Take([&](const flsd_msgs_Reply& reply, const dds_sample_info_t&) {
-      if (reply.header.request_id != request_id || Own(reply.header.client_id) != id_) return;
-      result.answered = true;
-      result.status = reply.status;
-      result.message = Own(reply.message);
-      result.safety_report = Own(reply.safety_report);
-      result.skills.assign(reply.skills._buffer, reply.skills._buffer + reply.skills._length);
-    });
+  {
+    std::lock_guard<std::mutex> reply_lock(reply_mutex_);
+    awaited_request_id_ = request_id;
+    awaited_result_ = CallResult{};
+    reply_ready_ = false;
   }
-  return result;
+  requests_.Write(request);
+  // Spin briefly before sleeping: a reply usually comes within a few hundred microseconds, and
+  // waking a sleeping thread can cost as much again on a virtual machine.
+  const auto start = std::chrono::steady_clock::now();
+  while (!reply_ready_.load(std::memory_order_acquire) &&
+         std::chrono::steady_clock::now() - start < std::min<std::chrono::nanoseconds>(timeout, kSpin)) {
+    std::this_thread::yield();
+  }
+  std::unique_lock<std::mutex> reply_lock(reply_mutex_);
+  reply_arrived_.wait_until(reply_lock, start + timeout, [&] { return reply_ready_.load(); });
+  awaited_request_id_ = 0;
+  return std::move(awaited_result_);
+}
+
+void Client::OnReplies(dds_entity_t, void* self) {
+  auto* client = static_cast<Client*>(self);
+  std::lock_guard<std::mutex> lock(client->reply_mutex_);
+  // Replies to every client share the topic; keep only the answer to the call in flight.
+  client->replies_.Take([&](const flsd_msgs_Reply& reply, const dds_sample_info_t&) {
+    if (client->awaited_request_id_ == 0 || reply.header.request_id != client->awaited_request_id_ ||
+        Own(reply.header.client_id) != client->id_) {
+      return;
+    }
+    CallResult& result = client->awaited_result_;
+    result.answered = true;
+    result.status = reply.status;
+    result.message = Own(reply.message);
+    result.safety_report = Own(reply.safety_report);
+    result.skills.assign(reply.skills._buffer, reply.skills._buffer + reply.skills._length);
+    client->reply_ready_.store(true, std::memory_order_release);
+  }, 1 << 30);
+  if (client->reply_ready_) client->reply_arrived_.notify_all();
 }
 
 CallResult Client::AcquireControl(std::chrono::milliseconds timeout) {

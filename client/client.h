@@ -80,17 +80,25 @@ class Client {
 
  private:
   void Background();
+  static void OnReplies(dds_entity_t reader, void* self);
 
   std::string id_;
   Options options_;
-  dds::Domain domain_;
-  dds::Writer<flsd_msgs_Request> requests_;
-  dds::Reader<flsd_msgs_Reply> replies_;
-  dds::Reader<flsd_msgs_RobotState> states_;
-  dds::Guard wake_;
-
   std::mutex call_mutex_;  // one call in flight: replies are matched by request id
   uint64_t next_request_id_ = 0;
+  // The call in flight, completed by the reply listener on Cyclone's receive thread.
+  std::mutex reply_mutex_;
+  std::condition_variable reply_arrived_;
+  uint64_t awaited_request_id_ = 0;
+  CallResult awaited_result_;
+  std::atomic<bool> reply_ready_{false};
+
+  dds::Domain domain_;
+  dds::Writer<flsd_msgs_Request> requests_;
+  dds::Reader<flsd_msgs_RobotState> states_;
+  dds::Guard wake_;
+  dds::DataListener reply_listener_;
+  dds::Reader<flsd_msgs_Reply> replies_;  // last: its listener may fire once it exists
 
   mutable std::mutex state_mutex_;
   mutable std::condition_variable state_arrived_;

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "bench/dds_bench.h"
 #include "client/client.h"
 #include "comm/protocol.h"
 
@@ -111,6 +112,13 @@ int main(int argc, char** argv) {
   app.add_subcommand("reset", "Put the simulated robot back on its feet");
   CLI::App* watch = app.add_subcommand("watch", "Print the robot's state as it changes");
   watch->add_option("--seconds", watch_seconds, "Stop after this long (0: until Ctrl-C)");
+  flsd::DdsBenchOptions bench_options;
+  CLI::App* bench = app.add_subcommand("bench", "Round trips to skilld against Cyclone's ddsperf; prints JSON");
+  bench->add_option("--calls", bench_options.calls, "Timed status calls")->check(CLI::Range(10, 10000000));
+  bench->add_option("--rate", bench_options.rate_hz, "Calls (and pings) per second")->check(CLI::Range(1.0, 100000.0));
+  bench->add_option("--ddsperf-seconds", bench_options.ddsperf_seconds, "ddsperf ping time")->check(CLI::Range(1.0, 600.0));
+  bool json = false;  // JSON is the only output; the flag is accepted for symmetry with flsd bench
+  bench->add_flag("--json", json, "Print one JSON object (the default output)");
   CLI11_PARSE(app, argc, argv);
 
   std::signal(SIGINT, OnSignal);
@@ -146,6 +154,10 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (command == "status" || command == "damp") return Report(client.Call(command));
+    if (command == "bench") {
+      std::printf("%s\n", flsd::RunDdsBenchmark(client, options.domain_id, bench_options).dump(2).c_str());
+      return 0;
+    }
     if (command == "watch") {
       const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int>(watch_seconds * 1000));
       while (!g_interrupted && (watch_seconds <= 0.0 || std::chrono::steady_clock::now() < until)) {

@@ -49,7 +49,7 @@ dds_entity_t CreateTopic(const Domain& domain, const dds_topic_descriptor_t& typ
 }
 
 dds_entity_t CreateEndpoint(const Domain& domain, const dds_topic_descriptor_t& type, const char* topic,
-                            EndpointQos endpoint, bool is_writer) {
+                            EndpointQos endpoint, bool is_writer, const dds_listener_t* listener) {
   const dds_entity_t t = CreateTopic(domain, type, topic);
   QosPtr qos(dds_create_qos());
   dds_qset_reliability(qos.get(), endpoint.reliable ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT,
@@ -58,7 +58,7 @@ dds_entity_t CreateEndpoint(const Domain& domain, const dds_topic_descriptor_t& 
   dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
   const std::string what = std::string(is_writer ? "dds_create_writer(" : "dds_create_reader(") + topic + ")";
   return Check(is_writer ? dds_create_writer(domain.publisher(), t, qos.get(), nullptr)
-                         : dds_create_reader(domain.subscriber(), t, qos.get(), nullptr),
+                         : dds_create_reader(domain.subscriber(), t, qos.get(), listener),
                what.c_str());
 }
 
@@ -80,6 +80,11 @@ bool WaitForData(dds_entity_t reader, dds_entity_t waitset, std::chrono::nanosec
     if (triggered[i] == 0) return true;  // the read condition
   }
   return false;
+}
+
+DataListener::DataListener(Callback on_data, void* arg) : listener_(dds_create_listener(arg)) {
+  if (listener_ == nullptr) throw Error("dds_create_listener: out of memory");
+  dds_lset_data_available(listener_, on_data);
 }
 
 Guard::Guard(const Domain& domain)

@@ -76,10 +76,26 @@ class Writer {
   Entity writer_;
 };
 
+// Calls a function on Cyclone's receive thread when data arrives: no thread hand-off, so the
+// lowest latency, but the function must be quick and must not block.
+class DataListener {
+ public:
+  using Callback = void (*)(dds_entity_t reader, void* arg);
+  DataListener(Callback on_data, void* arg);
+  ~DataListener() { dds_delete_listener(listener_); }
+  DataListener(const DataListener&) = delete;
+  DataListener& operator=(const DataListener&) = delete;
+  const dds_listener_t* get() const { return listener_; }
+
+ private:
+  dds_listener_t* listener_;
+};
+
 template <class T>
 class Reader {
  public:
-  Reader(const Domain& domain, const dds_topic_descriptor_t& type, const char* topic, EndpointQos qos);
+  Reader(const Domain& domain, const dds_topic_descriptor_t& type, const char* topic, EndpointQos qos,
+         const DataListener* listener = nullptr);
 
   // Takes up to `max` samples and calls on_sample(const T&, const dds_sample_info_t&) for each
   // one with data. The sample is Cyclone's loan: copy what you keep. Returns the number taken.
@@ -113,7 +129,7 @@ class Guard {
 // --- implementation of the templates ---
 
 dds_entity_t CreateEndpoint(const Domain& domain, const dds_topic_descriptor_t& type, const char* topic,
-                            EndpointQos qos, bool is_writer);
+                            EndpointQos qos, bool is_writer, const dds_listener_t* listener = nullptr);
 int MatchedCount(dds_entity_t endpoint, bool is_writer);
 bool WaitForData(dds_entity_t reader, dds_entity_t waitset, std::chrono::nanoseconds timeout);
 
@@ -127,8 +143,9 @@ int Writer<T>::matched_readers() const {
 }
 
 template <class T>
-Reader<T>::Reader(const Domain& domain, const dds_topic_descriptor_t& type, const char* topic, EndpointQos qos)
-    : reader_(CreateEndpoint(domain, type, topic, qos, false)),
+Reader<T>::Reader(const Domain& domain, const dds_topic_descriptor_t& type, const char* topic, EndpointQos qos,
+                  const DataListener* listener)
+    : reader_(CreateEndpoint(domain, type, topic, qos, false, listener != nullptr ? listener->get() : nullptr)),
       waitset_(Check(dds_create_waitset(domain.participant()), "dds_create_waitset")),
       readcondition_(Check(dds_create_readcondition(reader_.get(), DDS_ANY_STATE), "dds_create_readcondition")) {
   Check(dds_waitset_attach(waitset_.get(), readcondition_.get(), 0), "dds_waitset_attach");

@@ -1,6 +1,12 @@
 #include "server/control_loop.h"
 
+#include <pthread.h>
+#include <sched.h>
+#include <sys/prctl.h>
 #include <time.h>
+
+#include <algorithm>
+#include <cmath>
 
 namespace flsd {
 namespace {
@@ -23,12 +29,30 @@ void SleepUntil(int64_t ns) {
 
 void ControlLoop::Start() {
   running_ = true;
-  thread_ = std::thread([this] { Run(); });
+  thread_ = std::thread([this] {
+    prctl(PR_SET_TIMERSLACK, 1UL);  // wake within 1 ns of the deadline, not the default 50 us
+    Run();
+  });
+  if (priority_ > 0) {
+    sched_param param{};
+    param.sched_priority = priority_;
+    realtime_ = pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param) == 0;
+  }
 }
 
 void ControlLoop::Stop() {
   running_ = false;
   if (thread_.joinable()) thread_.join();
+}
+
+double ControlLoop::LatenessQuantile(double q) const {
+  const auto wanted = static_cast<uint64_t>(std::ceil(q * static_cast<double>(ticks_)));
+  uint64_t seen = 0;
+  for (size_t bin = 0; bin < lateness_bins_.size(); ++bin) {
+    seen += lateness_bins_[bin];
+    if (seen >= wanted && seen > 0) return (bin + 1) * kBinSeconds;  // the bin's upper edge
+  }
+  return 0.0;
 }
 
 void ControlLoop::Run() {
@@ -38,6 +62,9 @@ void ControlLoop::Run() {
     const int64_t late = MonotonicNs() - next;
     if (late > period / 2) deadline_misses_.fetch_add(1, std::memory_order_relaxed);
     if (late * 1e-9 > worst_lateness_.load(std::memory_order_relaxed)) worst_lateness_.store(late * 1e-9);
+    const auto bin = static_cast<size_t>(std::max<int64_t>(0, late) * 1e-9 / kBinSeconds);
+    ++lateness_bins_[std::min(bin, lateness_bins_.size() - 1)];
+    ++ticks_;
     if (late > period) next = MonotonicNs();  // a stall: resume from now, no burst of ticks
     controller_.Tick();
     next += period;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <thread>
+#include <vector>
 
 #include "server/controller.h"
 
@@ -13,7 +14,9 @@ namespace flsd {
 
 class ControlLoop {
  public:
-  explicit ControlLoop(Controller& controller) : controller_(controller) {}
+  // `priority` > 0 asks for SCHED_FIFO at that priority (it needs CAP_SYS_NICE or root); the loop
+  // runs anyway without it, and realtime() says which it got.
+  explicit ControlLoop(Controller& controller, int priority = 0) : controller_(controller), priority_(priority) {}
   ~ControlLoop() { Stop(); }
 
   void Start();
@@ -23,15 +26,25 @@ class ControlLoop {
   uint64_t deadline_misses() const { return deadline_misses_.load(std::memory_order_relaxed); }
   // The worst lateness of a tick start seen so far, s.
   double worst_lateness() const { return worst_lateness_.load(std::memory_order_relaxed); }
+  // The q-quantile of tick-start lateness (the loop's jitter), s, to 10 us; call after Stop().
+  double LatenessQuantile(double q) const;
+  uint64_t ticks() const { return ticks_; }
+  bool realtime() const { return realtime_; }
 
  private:
   void Run();
 
   Controller& controller_;
+  int priority_;
+  bool realtime_ = false;
   std::thread thread_;
   std::atomic<bool> running_{false};
   std::atomic<uint64_t> deadline_misses_{0};
   std::atomic<double> worst_lateness_{0.0};
+  // Tick-start lateness in 10 us bins up to 50 ms, the last bin holding everything later.
+  static constexpr double kBinSeconds = 10e-6;
+  std::vector<uint64_t> lateness_bins_ = std::vector<uint64_t>(5001, 0);
+  uint64_t ticks_ = 0;
 };
 
 }  // namespace flsd

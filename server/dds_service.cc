@@ -17,20 +17,9 @@ double MonotonicSeconds() {
 char* Text(const std::string& s) { return const_cast<char*>(s.c_str()); }  // Cyclone only reads it
 char* Text(const char* s) { return const_cast<char*>(s); }
 
-}  // namespace
-
-DdsService::DdsService(const ServerConfig& config, Controller& controller, const ControlLoop& loop,
-                       std::string backend_name)
-    : controller_(controller),
-      loop_(loop),
-      backend_name_(std::move(backend_name)),
-      handler_(controller, config),
-      domain_(config.domain_id, config.partition),
-      requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos),
-      replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
-      states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
-      wake_(domain_) {
-  for (const SkillDescriptor& d : controller.library().skills()) {
+std::vector<flsd_msgs_SkillInfo> MakeSkillInfos(const SkillLibrary& library) {
+  std::vector<flsd_msgs_SkillInfo> infos;
+  for (const SkillDescriptor& d : library.skills()) {
     flsd_msgs_SkillInfo info{};
     info.id = d.id;
     for (int i = 0; i < 3; ++i) {
@@ -40,46 +29,75 @@ DdsService::DdsService(const ServerConfig& config, Controller& controller, const
     info.base_height = d.mean_base_height;
     info.gait_frequency = d.gait_frequency_hz;
     info.survival_steps = d.survival_steps;
-    skills_.push_back(info);
+    infos.push_back(info);
   }
+  return infos;
 }
+
+}  // namespace
+
+DdsService::DdsService(const ServerConfig& config, Controller& controller, const ControlLoop& loop,
+                       std::string backend_name)
+    : controller_(controller),
+      loop_(loop),
+      backend_name_(std::move(backend_name)),
+      handler_(controller, config),
+      skills_(MakeSkillInfos(controller.library())),
+      domain_(config.domain_id, config.partition),
+      replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
+      states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
+      listener_(&DdsService::OnRequests, this),
+      requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos, &listener_) {}
 
 void DdsService::Start() {
   running_ = true;
-  request_thread_ = std::thread([this] { ServeRequests(); });
+  ServeRequests();  // any that came before
+  poll_thread_ = std::thread([this] { PollLeases(); });
   state_thread_ = std::thread([this] { PublishState(); });
 }
 
 void DdsService::Stop() {
   if (!running_.exchange(false)) return;
-  wake_.Trigger();
-  if (request_thread_.joinable()) request_thread_.join();
+  poll_wake_.notify_all();
+  if (poll_thread_.joinable()) poll_thread_.join();
   if (state_thread_.joinable()) state_thread_.join();
 }
 
-void DdsService::ServeRequests() {
+void DdsService::OnRequests(dds_entity_t, void* self) {
+  auto* service = static_cast<DdsService*>(self);
+  if (service->running_) service->ServeRequests();
+}
+
+void DdsService::PollLeases() {
+  std::unique_lock<std::mutex> lock(poll_mutex_);
   while (running_) {
-    requests_.Wait(std::chrono::milliseconds(50), wake_.get());
-    const double now = MonotonicSeconds();
-    handler_.Poll(now);
-    requests_.Take([&](const flsd_msgs_Request& request, const dds_sample_info_t&) {
-      try {
-        const std::optional<ReplyContent> reply = handler_.Handle(request, MonotonicSeconds(), dds_time());
-        if (reply) SendReply(request, *reply);
-      } catch (const std::exception& e) {
-        // Nothing a client sends may stop the server; say what went wrong instead.
-        spdlog::error("request '{}' from '{}' failed: {}", request.call ? request.call : "",
-                      request.header.client_id ? request.header.client_id : "", e.what());
-        ReplyContent internal;
-        internal.status = flsd_msgs_STATUS_INTERNAL;
-        internal.message = e.what();
-        SendReply(request, internal);
-      }
-    });
-    dropped_ = handler_.dropped();
-    std::lock_guard<std::mutex> lock(holder_mutex_);
+    poll_wake_.wait_for(lock, std::chrono::milliseconds(20));
+    std::lock_guard<std::mutex> handler_lock(handler_mutex_);
+    handler_.Poll(MonotonicSeconds());
+    std::lock_guard<std::mutex> holder_lock(holder_mutex_);
     holder_ = handler_.controller_id();
   }
+}
+
+void DdsService::ServeRequests() {
+  std::lock_guard<std::mutex> lock(handler_mutex_);
+  requests_.Take([&](const flsd_msgs_Request& request, const dds_sample_info_t&) {
+    try {
+      const std::optional<ReplyContent> reply = handler_.Handle(request, MonotonicSeconds(), dds_time());
+      if (reply) SendReply(request, *reply);
+    } catch (const std::exception& e) {
+      // Nothing a client sends may stop the server; say what went wrong instead.
+      spdlog::error("request '{}' from '{}' failed: {}", request.call ? request.call : "",
+                    request.header.client_id ? request.header.client_id : "", e.what());
+      ReplyContent internal;
+      internal.status = flsd_msgs_STATUS_INTERNAL;
+      internal.message = e.what();
+      SendReply(request, internal);
+    }
+  }, 1 << 30);
+  dropped_ = handler_.dropped();
+  std::lock_guard<std::mutex> holder_lock(holder_mutex_);
+  holder_ = handler_.controller_id();
 }
 
 void DdsService::SendReply(const flsd_msgs_Request& request, const ReplyContent& content) {

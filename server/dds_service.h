@@ -1,8 +1,11 @@
 #pragma once
-// skilld's DDS face: a request thread (take, handle, reply) and a telemetry thread (one state
-// sample per control tick). Neither touches the robot; both go through the Controller.
+// skilld's DDS face. Requests are handled on Cyclone's receive thread as they arrive (a data
+// listener: no thread hand-off, so a damp reaches the controller within microseconds); a poll
+// thread lets silent leases lapse; a telemetry thread publishes one state sample per control
+// tick. None touches the robot; all go through the Controller.
 
 #include <atomic>
+#include <condition_variable>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -26,23 +29,28 @@ class DdsService {
   uint64_t replies_sent() const { return replies_sent_.load(); }
 
  private:
-  void ServeRequests();
+  static void OnRequests(dds_entity_t reader, void* self);
+  void ServeRequests();  // takes and answers whatever requests are waiting
+  void PollLeases();
   void PublishState();
   void SendReply(const flsd_msgs_Request& request, const ReplyContent& content);
 
   Controller& controller_;
   const ControlLoop& loop_;
   std::string backend_name_;
+  std::mutex handler_mutex_;  // the listener and the poll thread share the handler
   RequestHandler handler_;
+  std::vector<flsd_msgs_SkillInfo> skills_;
+  std::atomic<bool> running_{false};
   dds::Domain domain_;
-  dds::Reader<flsd_msgs_Request> requests_;
   dds::Writer<flsd_msgs_Reply> replies_;
   dds::Writer<flsd_msgs_RobotState> states_;
-  dds::Guard wake_;
-  std::vector<flsd_msgs_SkillInfo> skills_;
+  dds::DataListener listener_;
+  dds::Reader<flsd_msgs_Request> requests_;  // last: its listener may fire once it exists
 
-  std::atomic<bool> running_{false};
-  std::thread request_thread_, state_thread_;
+  std::mutex poll_mutex_;
+  std::condition_variable poll_wake_;
+  std::thread poll_thread_, state_thread_;
   std::atomic<uint64_t> replies_sent_{0};
   std::atomic<uint64_t> dropped_{0};
   std::mutex holder_mutex_;

@@ -36,8 +36,9 @@ struct ServerConfig {
   double stand_joint_speed = 1.5;  // rad/s at which stand moves joint targets to the default pose
   double stand_kp = a1::kKp;       // PD gains while standing (the training gains by default)
   double stand_kd = a1::kKd;
-  double requests_per_second = 100.0;  // per client; beyond it requests are dropped and counted
-  int request_burst = 50;
+  double requests_per_second = 1000.0;  // per client; beyond it requests are dropped and counted
+  int request_burst = 100;
+  int control_priority = 80;  // SCHED_FIFO priority of the control loop; 0: the normal scheduler
   SafetyConfig safety;
   SimBackendConfig sim;
   template <class V>
@@ -51,6 +52,7 @@ struct ServerConfig {
     v("stand_kd", stand_kd, Bounds<double>{0.0, 10.0});
     v("requests_per_second", requests_per_second, Bounds<double>{1.0, 100000.0});
     v("request_burst", request_burst, Bounds<int>{1, 100000});
+    v("control_priority", control_priority, Bounds<int>{0, 99});
     v("safety", safety);
     v("sim", sim);
   }

@@ -7,6 +7,7 @@
 #include <csignal>
 #include <cstdio>
 
+#include "bench/policy_bench.h"
 #include "bench/sim_bench.h"
 #include "bench/train_bench.h"
 #include "core/check.h"
@@ -71,6 +72,15 @@ int main(int argc, char** argv) {
   train_bench_cmd->add_option("--iterations", train_bench.iterations, "Timed iterations")->check(CLI::Range(1, 1000));
   train_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
 
+  flsd::PolicyBenchOptions policy_bench;
+  CLI::App* policy_bench_cmd =
+      bench_cmd->add_subcommand("policy", "Serving inference (Eigen against libtorch) and control-loop jitter");
+  policy_bench_cmd->add_option("--library", policy_bench.library, "Skill library");
+  policy_bench_cmd->add_option("--calls", policy_bench.calls, "Timed Eigen calls")->check(CLI::Range(10, 100000000));
+  policy_bench_cmd->add_option("--loop-seconds", policy_bench.loop_seconds, "Real-time control loop run")
+      ->check(CLI::Range(0.1, 3600.0));
+  policy_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*demo_cmd) return flsd::RunSimDemo(demo);
@@ -103,6 +113,10 @@ int main(int argc, char** argv) {
     }
     if (*sim_cmd) {
       std::printf("%s\n", flsd::RunSimBenchmark(sim).dump(2).c_str());
+      return 0;
+    }
+    if (*policy_bench_cmd) {
+      std::printf("%s\n", flsd::RunPolicyBenchmark(policy_bench).dump(2).c_str());
       return 0;
     }
     if (*train_bench_cmd) {

@@ -1,0 +1,19 @@
+#pragma once
+// Order statistics for latency benchmarks.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace flsd {
+
+// The q-quantile (0..1) of `values` by the nearest-rank method; 0 for no values.
+inline double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const size_t rank = static_cast<size_t>(std::ceil(q * values.size()));
+  const size_t index = rank == 0 ? 0 : std::min(values.size() - 1, rank - 1);
+  std::nth_element(values.begin(), values.begin() + index, values.end());
+  return values[index];
+}
+
+}  // namespace flsd

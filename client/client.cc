@@ -174,7 +174,7 @@ void Client::Background() {
     const auto now = std::chrono::steady_clock::now();
     if (in_control_ && now >= next_heartbeat) {
       next_heartbeat = now + options_.heartbeat;
-      const CallResult r = Call("acquire_control", {}, options_.heartbeat);
+      const CallResult r = Call("renew_control", {}, options_.heartbeat);
       if (r.answered && r.status != flsd_msgs_STATUS_OK) {
         lost_control_ = true;
         in_control_ = false;

@@ -68,7 +68,8 @@ class Client {
   // acquire_control / release_control, starting and stopping the lease heartbeat.
   CallResult AcquireControl(std::chrono::milliseconds timeout = std::chrono::milliseconds(2000));
   CallResult ReleaseControl(std::chrono::milliseconds timeout = std::chrono::milliseconds(2000));
-  // Whether the heartbeat has been refused since control was acquired (the lease was lost).
+  // Whether the heartbeat has been refused since control was acquired: the lease lapsed, or the
+  // server restarted. Control is never re-taken silently; call AcquireControl again.
   bool lost_control() const { return lost_control_; }
 
   std::optional<StateSample> LatestState() const;

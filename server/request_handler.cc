@@ -11,7 +11,7 @@ namespace {
 
 constexpr const char* kKnownCalls =
     "list_skills, status, execute_skill, track_velocity, navigate, stop, stand, damp, acquire_control, "
-    "release_control, reset";
+    "renew_control, release_control, reset";
 
 ReplyContent Reply(flsd_msgs_ReplyStatus status, std::string message) {
   ReplyContent r;
@@ -124,6 +124,13 @@ ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const st
     }
     return Reply(flsd_msgs_STATUS_OK, "control granted; it lapses after " + Seconds(lease_.timeout()) +
                                           " without a request from this client");
+  }
+  if (call == "renew_control") {  // a heartbeat: never grants a lease that is not held
+    if (!lease_.Renew(client_id, now)) {
+      return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, lease_.held() ? "control is held by " + lease_.holder()
+                                                                  : std::string("this client does not hold control"));
+    }
+    return Reply(flsd_msgs_STATUS_OK, "control renewed");
   }
   if (call == "release_control") {
     if (!lease_.Release(client_id)) {

@@ -3,6 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <csignal>
+
+#include "client/client.h"
 #include "tests/common/skilld_fixture.h"
 
 namespace flsd {
@@ -51,6 +54,29 @@ TEST_F(SkillctlTest, AScriptedSessionGetsTheExitCodesItExpects) {
   EXPECT_EQ(code, 0) << out;
   EXPECT_THAT(out, HasSubstr("mode stand"));
   EXPECT_THAT(out, HasSubstr("faults none"));
+}
+
+TEST_F(SkillctlTest, KillingSkillctlMidSkillLetsTheLeaseLapseAndTheRobotStand) {
+  StartServer();
+  Client::Options options;
+  options.domain_id = domain_;
+  options.partition = partition_;
+  Client observer(options);
+  ASSERT_TRUE(observer.WaitForServer(std::chrono::seconds(15)));
+
+  testutil::Process skillctl(testutil::BinaryPath("skillctl"), SkillctlArgs({"skill", "0", "--duration", "60"}),
+                             testutil::UniqueTempPath("skillctl.log"));
+  const auto running = observer.WaitForState(
+      [](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_SKILL; }, std::chrono::seconds(15));
+  ASSERT_TRUE(running) << skillctl.Log();
+  skillctl.Signal(SIGKILL);  // no release, no stop: the process is simply gone
+  EXPECT_EQ(skillctl.Wait(), 128 + SIGKILL);
+
+  const auto lapsed = observer.WaitForState(
+      [](const StateSample& s) { return s.msg.task.state == flsd_msgs_TASK_LEASE_LOST; }, std::chrono::seconds(5));
+  ASSERT_TRUE(lapsed);
+  EXPECT_EQ(lapsed->msg.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(lapsed->controller, "");
 }
 
 }  // namespace

@@ -74,6 +74,14 @@ TEST_F(RequestHandlerTest, MotionNeedsTheLeaseAndOnlyItsHolderMoves) {
   EXPECT_EQ(Skill("a", 0, 1.0, 0.4).status, flsd_msgs_STATUS_OK);
 }
 
+TEST_F(RequestHandlerTest, RenewingNeverGrantsALeaseThatIsNotHeld) {
+  EXPECT_EQ(Send("a", "renew_control").status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("a", "renew_control", 0.9).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("b", "renew_control", 1.0).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  EXPECT_EQ(Send("a", "renew_control", 2.5).status, flsd_msgs_STATUS_NOT_IN_CONTROL);  // lapsed at 1.9
+}
+
 TEST_F(RequestHandlerTest, AnyClientMayDamp) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
   EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);

@@ -151,6 +151,24 @@ TEST_F(SkilldTest, ASilentControllerLosesTheLeaseAndTheRobotStands) {
   EXPECT_EQ(lost->controller, "");
 }
 
+TEST_F(SkilldTest, AClientReconnectsToARestartedServer) {
+  StartServer();
+  auto client = Connect();
+  ASSERT_TRUE(client->AcquireControl().ok());
+  server_->Signal(SIGTERM);
+  ASSERT_EQ(server_->Wait(), 0) << server_->Log();
+  EXPECT_FALSE(client->Call("status", {}, 300ms).answered);
+
+  StartServer();
+  ASSERT_TRUE(client->WaitForServer(15s)) << server_->Log();
+  // The new server knows nothing of the old lease; the heartbeat learns so and does not re-take it.
+  EXPECT_EQ(client->Call("stand").status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  for (int i = 0; i < 100 && !client->lost_control(); ++i) std::this_thread::sleep_for(20ms);
+  EXPECT_TRUE(client->lost_control());
+  EXPECT_TRUE(client->AcquireControl().ok());
+  EXPECT_TRUE(client->Call("stand").ok());
+}
+
 TEST_F(SkilldTest, SigtermDampsTheRobotAndExitsCleanly) {
   StartServer();
   auto client = Connect();

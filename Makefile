@@ -18,7 +18,7 @@ test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
 demo: build
-	@$(BUILD_DIR)/bin/flsd demo
+	@BIN_DIR=$(BUILD_DIR)/bin bash scripts/demo.sh
 
 bench: build
 	@$(BUILD_DIR)/bin/flsd bench sim --json

@@ -34,9 +34,40 @@ void PrintState(const flsd::StateSample& s) {
   std::fflush(stdout);
 }
 
-// Follows the task started by request `request_id` until it ends; Ctrl-C stops the robot.
+double Yaw(const flsd_msgs_RobotState& m) {
+  const double w = m.orientation[0], x = m.orientation[1], y = m.orientation[2], z = m.orientation[3];
+  return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+}
+
+// What the robot did while the motion ran: where it went, how fast, and whether it fell.
+struct MotionSummary {
+  bool started = false;
+  double t0 = 0.0, x0 = 0.0, y0 = 0.0, yaw0 = 0.0, turned = 0.0, last_yaw = 0.0;
+  double t1 = 0.0, x1 = 0.0, y1 = 0.0;
+
+  void Add(const flsd_msgs_RobotState& m) {
+    const bool moving = m.mode == flsd_msgs_MODE_SKILL || m.mode == flsd_msgs_MODE_VELOCITY || m.mode == flsd_msgs_MODE_NAVIGATE;
+    if (!moving) return;
+    const double yaw = Yaw(m);
+    if (!started) {
+      started = true;
+      t0 = m.time, x0 = m.position[0], y0 = m.position[1], last_yaw = yaw0 = yaw;
+    }
+    turned += std::remainder(yaw - last_yaw, 2.0 * M_PI);  // unwrapped
+    last_yaw = yaw;
+    t1 = m.time, x1 = m.position[0], y1 = m.position[1];
+  }
+  void Print(bool fell, const std::string& why) const {
+    const double t = t1 - t0, d = std::hypot(x1 - x0, y1 - y0);
+    std::printf("moved %.2f m (dx %+.2f, dy %+.2f) in %.2f s: %.2f m/s; turned %+.0f deg; fell: %s\n", d, x1 - x0,
+                y1 - y0, t, t > 0.0 ? d / t : 0.0, turned * 180.0 / M_PI, fell ? ("yes, " + why).c_str() : "no");
+  }
+};
+
+// Follows this client's long call until it ends; Ctrl-C stops the robot.
 int FollowTask(flsd::Client& client, const std::string& call, bool quiet) {
   auto last_print = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  MotionSummary summary;
   for (;;) {
     if (g_interrupted) {
       std::printf("interrupted: stopping\n");
@@ -49,6 +80,7 @@ int FollowTask(flsd::Client& client, const std::string& call, bool quiet) {
       std::fprintf(stderr, "skillctl: no state from skilld for 1 s\n");
       return kExitNoServer;
     }
+    summary.Add(s->msg);
     const bool ours = s->task_client_id == client.id() && s->task_call == call;
     const auto now = std::chrono::steady_clock::now();
     if (!quiet && now - last_print >= std::chrono::milliseconds(500)) {
@@ -56,8 +88,9 @@ int FollowTask(flsd::Client& client, const std::string& call, bool quiet) {
       last_print = now;
     }
     if (ours && s->msg.task.state != flsd_msgs_TASK_RUNNING) {
-      PrintState(*s);
+      if (!quiet) PrintState(*s);
       std::printf("%s %s: %s\n", call.c_str(), flsd::dds::TaskStateName(s->msg.task.state), s->task_message.c_str());
+      summary.Print(s->msg.task.state == flsd_msgs_TASK_SAFETY_STOP, s->task_message);
       return s->msg.task.state == flsd_msgs_TASK_SUCCEEDED ? 0 : kExitTaskFailed;
     }
     if (client.lost_control()) {

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# make demo: skilld with the simulated A1 and the shipped skill library, driven by skillctl the way
+# a user would: list the skills, stand, run the four fastest ones, then stop the server cleanly.
+# Everything stays on this machine (Cyclone on loopback, a partition of its own).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=${BIN_DIR:-build/bin}
+library=${LIBRARY:-models/a1_flsd.safetensors}
+export CYCLONEDDS_URI=${CYCLONEDDS_URI:-file://$PWD/configs/cyclonedds_loopback.xml}
+domain=${DOMAIN:-42}
+partition="demo-$$"
+ctl=("$bin/skillctl" --domain "$domain" --partition "$partition" --timeout 10)
+
+[ -f "$library" ] || { echo "demo: no skill library at $library (export one with: flsd export RUN -o $library)"; exit 2; }
+
+"$bin/skilld" --backend sim --library "$library" --domain "$domain" --partition "$partition" &
+server=$!
+trap 'kill -INT $server 2>/dev/null; wait $server' EXIT
+
+echo "== skills in $library"
+"${ctl[@]}" list | tee /tmp/flsd_demo_skills.$$
+echo "== stand"
+"${ctl[@]}" stand
+# The four skills with the largest mean speed (m/s, plus 0.3 m per radian of turning).
+fastest=$(awk 'NR > 1 { printf "%s %f\n", $1, sqrt($2*$2 + $3*$3) + 0.3*($4 < 0 ? -$4 : $4) }' /tmp/flsd_demo_skills.$$ |
+          sort -k2 -g -r | head -4 | cut -d' ' -f1)
+rm -f /tmp/flsd_demo_skills.$$
+status=0
+for k in $fastest; do
+  echo "== skill $k for 4 s"
+  "${ctl[@]}" --quiet skill "$k" --duration 4 || status=$?
+done
+echo "== status"
+"${ctl[@]}" status
+exit $status

@@ -82,7 +82,7 @@ nlohmann::json MeasureControlLoop(const SkillLibrary& library, double seconds) {
   ServerConfig config;
   SimBackend backend(config.sim);
   Controller controller(backend, library, config);
-  ControlLoop loop(controller, config.control_priority);
+  ControlLoop loop(controller, config.control_priority, config.cpu_latency_us);
   ControlRequest skill;
   skill.kind = ControlRequest::Kind::kSkill;
   skill.skill = 0;
@@ -90,11 +90,17 @@ nlohmann::json MeasureControlLoop(const SkillLibrary& library, double seconds) {
   controller.Submit(skill);
   loop.Start();
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  const bool cpu_latency_held = loop.cpu_latency_held();
   loop.Stop();
-  const double bare_p99 = BareSleepJitterP99(seconds, config.control_priority);
+  double bare_p99 = 0.0;
+  {
+    const CpuLatencyRequest same_as_loop(config.cpu_latency_us);
+    bare_p99 = BareSleepJitterP99(seconds, config.control_priority);
+  }
   return {{"ticks", loop.ticks()},
           {"bare_sleep_jitter_p99_ms", bare_p99 * 1e3},
           {"sched_fifo", loop.realtime()},
+          {"cpu_dma_latency_held", cpu_latency_held},
           {"tick_lateness_p50_ms", loop.LatenessQuantile(0.5) * 1e3},
           {"tick_jitter_p99_ms", loop.LatenessQuantile(0.99) * 1e3},
           {"tick_lateness_max_ms", loop.worst_lateness() * 1e3},

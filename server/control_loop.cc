@@ -1,6 +1,8 @@
 #include "server/control_loop.h"
 
+#include <fcntl.h>
 #include <pthread.h>
+#include <unistd.h>
 #include <sched.h>
 #include <sys/prctl.h>
 #include <time.h>
@@ -27,7 +29,21 @@ void SleepUntil(int64_t ns) {
 
 }  // namespace
 
+CpuLatencyRequest::CpuLatencyRequest(int microseconds) {
+  fd_ = open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
+  const int32_t value = microseconds;
+  if (fd_ >= 0 && write(fd_, &value, sizeof value) != sizeof value) {
+    close(fd_);
+    fd_ = -1;
+  }
+}
+
+CpuLatencyRequest::~CpuLatencyRequest() {
+  if (fd_ >= 0) close(fd_);  // closing withdraws the request
+}
+
 void ControlLoop::Start() {
+  if (cpu_latency_us_ >= 0) cpu_latency_ = std::make_unique<CpuLatencyRequest>(cpu_latency_us_);
   running_ = true;
   thread_ = std::thread([this] {
     prctl(PR_SET_TIMERSLACK, 1UL);  // wake within 1 ns of the deadline, not the default 50 us
@@ -43,6 +59,7 @@ void ControlLoop::Start() {
 void ControlLoop::Stop() {
   running_ = false;
   if (thread_.joinable()) thread_.join();
+  cpu_latency_.reset();
 }
 
 double ControlLoop::LatenessQuantile(double q) const {

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -12,11 +13,28 @@
 
 namespace flsd {
 
+// Asks the kernel, through /dev/cpu_dma_latency, to keep the CPUs out of idle states slower to
+// leave than `microseconds`, for as long as the object lives (the practice of cyclictest and
+// real-time robot computers). 0 makes idle CPUs poll: wake-ups get sharp, power use goes up.
+class CpuLatencyRequest {
+ public:
+  explicit CpuLatencyRequest(int microseconds);
+  ~CpuLatencyRequest();
+  CpuLatencyRequest(const CpuLatencyRequest&) = delete;
+  CpuLatencyRequest& operator=(const CpuLatencyRequest&) = delete;
+  bool active() const { return fd_ >= 0; }
+
+ private:
+  int fd_ = -1;
+};
+
 class ControlLoop {
  public:
   // `priority` > 0 asks for SCHED_FIFO at that priority (it needs CAP_SYS_NICE or root); the loop
   // runs anyway without it, and realtime() says which it got.
-  explicit ControlLoop(Controller& controller, int priority = 0) : controller_(controller), priority_(priority) {}
+  // `cpu_latency_us` >= 0 holds a CpuLatencyRequest while the loop runs; -1 leaves the CPUs be.
+  ControlLoop(Controller& controller, int priority = 0, int cpu_latency_us = -1)
+      : controller_(controller), priority_(priority), cpu_latency_us_(cpu_latency_us) {}
   ~ControlLoop() { Stop(); }
 
   void Start();
@@ -30,13 +48,16 @@ class ControlLoop {
   double LatenessQuantile(double q) const;
   uint64_t ticks() const { return ticks_; }
   bool realtime() const { return realtime_; }
+  bool cpu_latency_held() const { return cpu_latency_ != nullptr && cpu_latency_->active(); }
 
  private:
   void Run();
 
   Controller& controller_;
   int priority_;
+  int cpu_latency_us_;
   bool realtime_ = false;
+  std::unique_ptr<CpuLatencyRequest> cpu_latency_;
   std::thread thread_;
   std::atomic<bool> running_{false};
   std::atomic<uint64_t> deadline_misses_{0};

@@ -39,6 +39,7 @@ struct ServerConfig {
   double requests_per_second = 1000.0;  // per client; beyond it requests are dropped and counted
   int request_burst = 100;
   int control_priority = 80;  // SCHED_FIFO priority of the control loop; 0: the normal scheduler
+  int cpu_latency_us = 0;     // /dev/cpu_dma_latency while serving (0: idle CPUs poll); -1: untouched
   SafetyConfig safety;
   SimBackendConfig sim;
   template <class V>
@@ -53,6 +54,7 @@ struct ServerConfig {
     v("requests_per_second", requests_per_second, Bounds<double>{1.0, 100000.0});
     v("request_burst", request_burst, Bounds<int>{1, 100000});
     v("control_priority", control_priority, Bounds<int>{0, 99});
+    v("cpu_latency_us", cpu_latency_us, Bounds<int>{-1, 1000000});
     v("safety", safety);
     v("sim", sim);
   }

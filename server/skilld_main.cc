@@ -54,12 +54,15 @@ int main(int argc, char** argv) {
     std::unique_ptr<flsd::Backend> backend = MakeBackend(backend_name, config);
 
     flsd::Controller controller(*backend, library, config);
-    flsd::ControlLoop loop(controller, config.control_priority);
+    flsd::ControlLoop loop(controller, config.control_priority, config.cpu_latency_us);
     flsd::DdsService service(config, controller, loop, backend->name());
     loop.Start();
     service.Start();
     if (config.control_priority > 0 && !loop.realtime()) {
       spdlog::warn("control loop runs without SCHED_FIFO (needs CAP_SYS_NICE): expect more jitter");
+    }
+    if (config.cpu_latency_us >= 0 && !loop.cpu_latency_held()) {
+      spdlog::warn("cannot hold /dev/cpu_dma_latency (needs root): expect millisecond wake-ups on idle CPUs");
     }
     spdlog::info("skilld ready: backend {}, library {} ({} skills), DDS domain {}, partition '{}'", backend->name(),
                  library.path(), library.num_skills(), config.domain_id, config.partition);

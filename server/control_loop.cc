@@ -7,8 +7,6 @@
 #include <sys/prctl.h>
 #include <time.h>
 
-#include <algorithm>
-#include <cmath>
 
 namespace flsd {
 namespace {
@@ -62,16 +60,6 @@ void ControlLoop::Stop() {
   cpu_latency_.reset();
 }
 
-double ControlLoop::LatenessQuantile(double q) const {
-  const auto wanted = static_cast<uint64_t>(std::ceil(q * static_cast<double>(ticks_)));
-  uint64_t seen = 0;
-  for (size_t bin = 0; bin < lateness_bins_.size(); ++bin) {
-    seen += lateness_bins_[bin];
-    if (seen >= wanted && seen > 0) return (bin + 1) * kBinSeconds;  // the bin's upper edge
-  }
-  return 0.0;
-}
-
 void ControlLoop::Run() {
   const int64_t period = static_cast<int64_t>(a1::kControlDt * kNsPerS);
   int64_t next = MonotonicNs();
@@ -79,9 +67,7 @@ void ControlLoop::Run() {
     const int64_t late = MonotonicNs() - next;
     if (late > period / 2) deadline_misses_.fetch_add(1, std::memory_order_relaxed);
     if (late * 1e-9 > worst_lateness_.load(std::memory_order_relaxed)) worst_lateness_.store(late * 1e-9);
-    const auto bin = static_cast<size_t>(std::max<int64_t>(0, late) * 1e-9 / kBinSeconds);
-    ++lateness_bins_[std::min(bin, lateness_bins_.size() - 1)];
-    ++ticks_;
+    lateness_.Add(late * 1e-9);
     if (late > period) next = MonotonicNs();  // a stall: resume from now, no burst of ticks
     controller_.Tick();
     next += period;

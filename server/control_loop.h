@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <memory>
 #include <thread>
-#include <vector>
 
+#include "core/latency_histogram.h"
 #include "server/controller.h"
 
 namespace flsd {
@@ -44,9 +44,9 @@ class ControlLoop {
   uint64_t deadline_misses() const { return deadline_misses_.load(std::memory_order_relaxed); }
   // The worst lateness of a tick start seen so far, s.
   double worst_lateness() const { return worst_lateness_.load(std::memory_order_relaxed); }
-  // The q-quantile of tick-start lateness (the loop's jitter), s, to 10 us; call after Stop().
-  double LatenessQuantile(double q) const;
-  uint64_t ticks() const { return ticks_; }
+  // The q-quantile of tick-start lateness (the loop's jitter), s, to 10 us.
+  double LatenessQuantile(double q) const { return lateness_.Quantile(q); }
+  uint64_t ticks() const { return lateness_.count(); }
   bool realtime() const { return realtime_; }
   bool cpu_latency_held() const { return cpu_latency_ != nullptr && cpu_latency_->active(); }
 
@@ -62,10 +62,7 @@ class ControlLoop {
   std::atomic<bool> running_{false};
   std::atomic<uint64_t> deadline_misses_{0};
   std::atomic<double> worst_lateness_{0.0};
-  // Tick-start lateness in 10 us bins up to 50 ms, the last bin holding everything later.
-  static constexpr double kBinSeconds = 10e-6;
-  std::vector<uint64_t> lateness_bins_ = std::vector<uint64_t>(5001, 0);
-  uint64_t ticks_ = 0;
+  LatencyHistogram lateness_;  // of tick starts
 };
 
 }  // namespace flsd

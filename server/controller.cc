@@ -37,6 +37,7 @@ void Controller::Tick() {
   // Supervise first: a trip overrides whatever a request asks for in this tick.
   const std::string backend_fault = backend_.Fault();  // empty (no allocation) while healthy
   uint32_t faults = backend_fault.empty() ? 0u : kFaultBackend;
+  if (faults != 0) SetText(backend_fault_, backend_fault.c_str());
   if (MotorsActive()) {
     // A robot rising from the floor is low until it has stood up.
     const bool rising = mode_ == flsd_msgs_MODE_STAND && stand_ticks_ < stand_total_ticks_;
@@ -138,7 +139,7 @@ void Controller::EnterStand() {
 void Controller::EnterDamp(uint32_t faults) {
   if (task_.state == flsd_msgs_TASK_RUNNING) {
     char message[192];
-    DescribeFaults(faults, state_, config_.safety, message, sizeof message);
+    DescribeFaults(faults, state_, config_.safety, message, sizeof message, backend_fault_.data());
     EndTask(flsd_msgs_TASK_SAFETY_STOP, message);
   }
   mode_ = flsd_msgs_MODE_DAMP;
@@ -146,7 +147,8 @@ void Controller::EnterDamp(uint32_t faults) {
   pending_skill_ = -1;
   latched_faults_ |= faults;
   ++safety_trips_;
-  DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size());
+  DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size(),
+                 backend_fault_.data());
 }
 
 void Controller::StartTask(const ControlRequest& request, const char* call) {

@@ -106,6 +106,7 @@ class Controller {
   flsd_msgs_Mode mode_ = flsd_msgs_MODE_IDLE;
   uint32_t latched_faults_ = 0;
   FixedText fault_message_{};
+  FixedText backend_fault_{};  // the backend's account of its fault, while it has one
   uint64_t safety_trips_ = 0;
   TaskStatus task_;
   uint64_t task_start_tick_ = 0;

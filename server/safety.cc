@@ -38,7 +38,7 @@ void SafetySupervisor::ClampTargets(a1::JointArray<double>& targets) {
 }
 
 void DescribeFaults(uint32_t faults, const RobotState& state, const SafetyConfig& config, char* out,
-                    std::size_t size) {
+                    std::size_t size, const char* backend) {
   if (size == 0) return;
   out[0] = '\0';
   std::size_t used = 0;
@@ -74,7 +74,10 @@ void DescribeFaults(uint32_t faults, const RobotState& state, const SafetyConfig
   }
   if (faults & kFaultTorque) add("%storque at the %.1f N m limit for over %.2f s", a1::kTorqueLimit,
                                  config.max_torque_saturation);
-  if (faults & kFaultBackend) add("%sbackend state not trusted");
+  if (faults & kFaultBackend) {
+    if (backend != nullptr && backend[0] != '\0') add("%sbackend: %s", backend);
+    else add("%sbackend state not trusted");
+  }
   if (faults & kFaultPolicy) add("%spolicy produced a non-finite action");
 }
 

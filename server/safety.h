@@ -22,9 +22,10 @@ enum FaultBit : uint32_t {
   kFaultStop = 1u << 7,           // an emergency stop (damp) from a client
 };
 
-// Writes "tilt 1.31 rad > 1.00; ..." for `faults` into out (always terminated).
+// Writes "tilt 1.31 rad > 1.00; ..." for `faults` into out (always terminated); `backend` is the
+// backend's own account of a kFaultBackend.
 void DescribeFaults(uint32_t faults, const RobotState& state, const SafetyConfig& config, char* out,
-                    std::size_t size);
+                    std::size_t size, const char* backend = nullptr);
 
 class SafetySupervisor {
  public:

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/config.h"
+#include "hw/hw_backend.h"
 #include "robot/a1.h"
 #include "sim/sim_backend.h"
 
@@ -42,6 +43,7 @@ struct ServerConfig {
   int cpu_latency_us = 0;     // /dev/cpu_dma_latency while serving (0: idle CPUs poll); -1: untouched
   SafetyConfig safety;
   SimBackendConfig sim;
+  hw::HwConfig hw;
   template <class V>
   void Visit(V& v) {
     v("domain_id", domain_id, Bounds<int>{0, 232});
@@ -57,6 +59,7 @@ struct ServerConfig {
     v("cpu_latency_us", cpu_latency_us, Bounds<int>{-1, 1000000});
     v("safety", safety);
     v("sim", sim);
+    v("hw", hw);
   }
 };
 

@@ -20,7 +20,16 @@ constexpr int kExitBadInput = 2;
 
 std::unique_ptr<flsd::Backend> MakeBackend(const std::string& name, const flsd::ServerConfig& config) {
   if (name == "sim") return std::make_unique<flsd::SimBackend>(config.sim);
-  throw flsd::InputError("--backend " + name + ": this build has no hardware backend yet; use --backend sim");
+  auto hw = std::make_unique<flsd::hw::HwBackend>(config.hw);
+  spdlog::info("pre-flight: talking to the A1 at {}:{} without torque for {:.1f} s", config.hw.robot_host,
+               config.hw.robot_port, config.hw.preflight_seconds);
+  const std::vector<std::string> failures = hw->Preflight();
+  if (!failures.empty()) {
+    for (const std::string& f : failures) spdlog::error("pre-flight: {}", f);
+    throw flsd::InputError("pre-flight failed: " + std::to_string(failures.size()) + " problem(s); torque stays off");
+  }
+  spdlog::info("pre-flight passed");
+  return hw;
 }
 
 }  // namespace

@@ -131,14 +131,14 @@ Termination Env::Step(const float* action) {
   history_head_ = (history_head_ + 1) % kHistory;
   std::copy(action, action + a1::kNumJoints, action_history_[history_head_].begin());
   const int delayed = (history_head_ - randomization_.action_delay + kHistory) % kHistory;
-  return Advance(JointCommand::Track(JointTargetsFromAction(action_history_[delayed].data())));
+  return Advance(JointCommand::Track(JointTargetsFromAction(action_history_[delayed].data())), a1::kDecimation);
 }
 
-Termination Env::StepCommand(const JointCommand& command) { return Advance(command); }
+Termination Env::StepCommand(const JointCommand& command, int substeps) { return Advance(command, substeps); }
 
-Termination Env::Advance(const JointCommand& command) {
+Termination Env::Advance(const JointCommand& command, int substeps) {
   mjData& d = *data_;
-  for (int substep = 0; substep < a1::kDecimation; ++substep) {
+  for (int substep = 0; substep < substeps; ++substep) {
     for (int j = 0; j < a1::kNumJoints; ++j) {
       d.ctrl[index_.actuator[j]] =
           MotorTorque(command.kp[j], command.kd[j], command.position[j], command.velocity[j],

@@ -54,9 +54,10 @@ class Env {
   // state() still holds the last valid state (MuJoCo has already reset its data).
   Termination Step(const float* action);
 
-  // Advances one control step holding a motor-level command (the server's path: stand, damp,
-  // and policy targets that the safety supervisor has checked). Randomisation still applies.
-  Termination StepCommand(const JointCommand& command);
+  // Advances `substeps` physics steps (one control step by default) holding a motor-level
+  // command: the server's path (stand, damp, checked policy targets) and the robot emulator's
+  // (one 5 ms step at a time). Randomisation still applies.
+  Termination StepCommand(const JointCommand& command, int substeps = a1::kDecimation);
 
   const RobotState& state() const { return state_; }
   int episode_step() const { return episode_step_; }
@@ -78,7 +79,7 @@ class Env {
   void PlaceInitialState();
   void ReadState();
   Termination CheckTermination() const;
-  Termination Advance(const JointCommand& command);
+  Termination Advance(const JointCommand& command, int substeps);
 
   MjModelPtr model_;
   MjDataPtr data_;

@@ -22,11 +22,11 @@ class SkilldFixture : public ::testing::Test {
     partition_ = TestPartition();
   }
 
-  void StartServer(const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> args = {"--backend", "sim", "--library", FLSD_SOURCE_DIR "/models/a1_flsd.safetensors",
-                                     "--config", FLSD_SOURCE_DIR "/configs/server.yaml", "--domain",
-                                     std::to_string(domain_), "--partition", partition_};
-    args.insert(args.end(), extra.begin(), extra.end());
+  void StartServer(const std::string& backend = "sim",
+                   const std::string& config = FLSD_SOURCE_DIR "/configs/server.yaml") {
+    const std::vector<std::string> args = {"--backend", backend, "--library",
+                                           FLSD_SOURCE_DIR "/models/a1_flsd.safetensors", "--config", config,
+                                           "--domain", std::to_string(domain_), "--partition", partition_};
     server_ = std::make_unique<Process>(BinaryPath("skilld"), args, UniqueTempPath("skilld.log"));
   }
 

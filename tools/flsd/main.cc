@@ -7,6 +7,7 @@
 #include <csignal>
 #include <cstdio>
 
+#include "bench/hw_bench.h"
 #include "bench/policy_bench.h"
 #include "bench/sim_bench.h"
 #include "bench/train_bench.h"
@@ -81,6 +82,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 3600.0));
   policy_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
 
+  flsd::HwBenchOptions hw_bench;
+  CLI::App* hw_bench_cmd = bench_cmd->add_subcommand("hw", "The A1 UDP driver against the robot emulator on loopback");
+  hw_bench_cmd->add_option("--seconds", hw_bench.seconds, "Timed seconds")->check(CLI::Range(0.5, 3600.0));
+  hw_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*demo_cmd) return flsd::RunSimDemo(demo);
@@ -113,6 +119,10 @@ int main(int argc, char** argv) {
     }
     if (*sim_cmd) {
       std::printf("%s\n", flsd::RunSimBenchmark(sim).dump(2).c_str());
+      return 0;
+    }
+    if (*hw_bench_cmd) {
+      std::printf("%s\n", flsd::RunHwBenchmark(hw_bench).dump(2).c_str());
       return 0;
     }
     if (*policy_bench_cmd) {

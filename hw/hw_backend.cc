@@ -1,0 +1,227 @@
+#include "hw/hw_backend.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/prctl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace flsd::hw {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// Bit-identical IMU and joint readings: a real sensor's noise never repeats frame after frame.
+bool SameReadings(const LowState& a, const LowState& b) {
+  if (std::memcmp(&a.imu, &b.imu, sizeof a.imu) != 0) return false;
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    if (a.motors[j].q != b.motors[j].q || a.motors[j].dq != b.motors[j].dq) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+HwBackend::HwBackend(const HwConfig& config)
+    : config_(config),
+      socket_(config.local_host, config.local_port),
+      estimator_(LegKinematics::FromUrdf(config.urdf), config.estimator) {
+  socket_.Connect(config.robot_host, config.robot_port);
+  thread_ = std::thread([this] {
+    prctl(PR_SET_TIMERSLACK, 1UL);
+    Run();
+  });
+  if (config.driver_priority > 0) {
+    sched_param param{};
+    param.sched_priority = config.driver_priority;
+    realtime_ = pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param) == 0;
+  }
+}
+
+HwBackend::~HwBackend() {
+  running_ = false;
+  thread_.join();
+}
+
+void HwBackend::Send(const JointCommand& command) {
+  commands_.Write(command);
+  have_command_.store(true, std::memory_order_release);
+}
+
+RobotState HwBackend::Read() {
+  RobotState s;
+  states_.Read(s);
+  return s;
+}
+
+std::string HwBackend::Fault() const {
+  char text[160];
+  switch (static_cast<FaultCode>(fault_.load())) {
+    case FaultCode::kNone: return {};
+    case FaultCode::kStale:
+      std::snprintf(text, sizeof text, "no valid state frame from the robot for %.0f ms", since_valid_.load() * 1e3);
+      break;
+    case FaultCode::kFrozen: std::snprintf(text, sizeof text, "IMU and joint readings frozen (identical frames)"); break;
+    case FaultCode::kMotorMode:
+      std::snprintf(text, sizeof text, "motor %s is not in servo mode", a1::kJointNames[std::max(0, fault_joint_.load())]);
+      break;
+  }
+  return text;
+}
+
+DriverStats HwBackend::stats() const {
+  return {sent_.load(), received_.load(), bad_length_.load(), bad_level_.load(), bad_crc_.load(), cycles_.load(), late_.load()};
+}
+
+// Torque-free until the server commands: the SDK's initial command (servo mode, both loops off,
+// no gains), which also makes the robot start sending state frames.
+LowCommand HwBackend::ToLowCommand(const JointCommand& c) const {
+  LowCommand out;
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    MotorCommand& m = out.motors[j];
+    m.mode = kModeServo;
+    m.q = static_cast<float>(std::clamp(c.position[j], a1::JointMin(j), a1::JointMax(j)));
+    m.dq = static_cast<float>(c.velocity[j]);
+    m.kp = static_cast<float>(c.kp[j]);
+    m.kd = static_cast<float>(c.kd[j]);
+    m.tau = static_cast<float>(std::clamp(c.torque[j], -a1::kTorqueLimit, a1::kTorqueLimit));
+    if (c.kp[j] == 0.0) m.q = kPositionStop;
+    if (c.kd[j] == 0.0) m.dq = kVelocityStop;
+  }
+  return out;
+}
+
+void HwBackend::Run() {
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / config_.rate_hz));
+  JointCommand command;  // all zero gains: torque-free
+  uint8_t out[kLowCommandSize], in[2048];
+  LowState frame, previous;
+  bool have_frame = false;
+  uint32_t last_tick = 0;
+  auto last_valid = Clock::now(), frozen_since = Clock::now(), mode_bad_since = Clock::now();
+  bool frozen = false, mode_bad = false;
+  auto next = Clock::now();
+  while (running_.load(std::memory_order_relaxed)) {
+    if (have_command_.load(std::memory_order_acquire)) commands_.Read(command);
+    EncodeLowCommand(ToLowCommand(command), out);
+    const auto sent_at = Clock::now();
+    if (sent_at - next > period / 2) late_.fetch_add(1, std::memory_order_relaxed);
+    send_lateness_.Add(Seconds(sent_at - next));
+    if (socket_.Send(out, sizeof out)) sent_.fetch_add(1, std::memory_order_relaxed);
+
+    // Take every frame that arrives before the next send; keep the newest valid one.
+    next += period;
+    bool fresh = false;
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::microseconds>(next - Clock::now());
+      const int n = socket_.Receive(in, sizeof in, std::max(left, std::chrono::microseconds(0)));
+      if (n < 0) break;
+      switch (DecodeLowState(in, static_cast<std::size_t>(n), frame)) {
+        case FrameError::kNone:
+          if (!fresh) round_trip_.Add(Seconds(Clock::now() - sent_at));
+          fresh = true;
+          break;
+        case FrameError::kLength: bad_length_.fetch_add(1, std::memory_order_relaxed); break;
+        case FrameError::kLevel: bad_level_.fetch_add(1, std::memory_order_relaxed); break;
+        case FrameError::kCrc: bad_crc_.fetch_add(1, std::memory_order_relaxed); break;
+      }
+      if (fresh && left.count() <= 0) break;
+    }
+    const auto now = Clock::now();
+    if (fresh) {
+      received_.fetch_add(1, std::memory_order_relaxed);
+      last_valid = now;
+      const double dt = have_frame ? static_cast<uint32_t>(frame.tick - last_tick) * 1e-6 : 0.0;
+      estimator_.Update(frame, std::min(dt, 0.05));
+      states_.Write(estimator_.state());
+      frames_.Write(frame);
+      const bool same = have_frame && SameReadings(frame, previous);
+      if (same && !frozen) frozen_since = now;
+      frozen = same;
+      bool any_mode_bad = false;
+      for (int j = 0; j < a1::kNumJoints; ++j) {
+        if ((command.kp[j] != 0.0 || command.kd[j] != 0.0) && frame.motors[j].mode != kModeServo) {
+          any_mode_bad = true;
+          fault_joint_ = j;
+        }
+      }
+      if (any_mode_bad && !mode_bad) mode_bad_since = now;
+      mode_bad = any_mode_bad;
+      previous = frame;
+      last_tick = frame.tick;
+      have_frame = true;
+    }
+    since_valid_.store(Seconds(now - last_valid), std::memory_order_relaxed);
+    FaultCode fault = FaultCode::kNone;
+    if (Seconds(now - last_valid) > config_.stale_after) fault = FaultCode::kStale;
+    else if (frozen && Seconds(now - frozen_since) > config_.frozen_after) fault = FaultCode::kFrozen;
+    else if (mode_bad && Seconds(now - mode_bad_since) > config_.motor_mode_after) fault = FaultCode::kMotorMode;
+    fault_.store(static_cast<int>(fault), std::memory_order_relaxed);
+    cycles_.fetch_add(1, std::memory_order_relaxed);
+    std::this_thread::sleep_until(next);
+    if (Clock::now() - next > 10 * period) next = Clock::now();  // after a stall, no burst
+  }
+}
+
+std::vector<std::string> HwBackend::Preflight() {
+  std::vector<std::string> failures;
+  const DriverStats before = stats();
+  std::this_thread::sleep_for(std::chrono::duration<double>(config_.preflight_seconds));
+  const DriverStats after = stats();
+  const uint64_t received = after.received - before.received;
+  const uint64_t sent = after.sent - before.sent;
+  char text[200];
+  if (received == 0) {
+    std::snprintf(text, sizeof text,
+                  "no state frame from the robot at %s:%d in %.1f s (%llu commands sent): is it on, in low-level mode, "
+                  "and reachable on this network?",
+                  config_.robot_host.c_str(), config_.robot_port, config_.preflight_seconds,
+                  static_cast<unsigned long long>(sent));
+    failures.push_back(text);
+    return failures;
+  }
+  const uint64_t bad = (after.bad_crc - before.bad_crc) + (after.bad_length - before.bad_length) +
+                       (after.bad_level - before.bad_level);
+  if (bad > 0) {
+    std::snprintf(text, sizeof text, "%llu of %llu state frames were malformed (CRC, length or level flag)",
+                  static_cast<unsigned long long>(bad), static_cast<unsigned long long>(bad + received));
+    failures.push_back(text);
+  }
+  if (received < sent / 2) {
+    std::snprintf(text, sizeof text, "only %llu state frames for %llu commands", static_cast<unsigned long long>(received),
+                  static_cast<unsigned long long>(sent));
+    failures.push_back(text);
+  }
+  LowState frame;
+  frames_.Read(frame);
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    const double q = frame.motors[j].q;
+    if (!(q >= a1::JointMin(j) - 0.05 && q <= a1::JointMax(j) + 0.05)) {
+      std::snprintf(text, sizeof text, "%s reads %.3f rad, outside its range [%.3f, %.3f]", a1::kJointNames[j], q,
+                    a1::JointMin(j), a1::JointMax(j));
+      failures.push_back(text);
+    }
+    if (frame.motors[j].temperature > config_.max_motor_temperature) {
+      std::snprintf(text, sizeof text, "%s motor at %d C, above %.0f C", a1::kJointNames[j], frame.motors[j].temperature,
+                    config_.max_motor_temperature);
+      failures.push_back(text);
+    }
+  }
+  const RobotState s = Read();
+  const double tilt = std::acos(std::clamp(-s.ProjectedGravity().z(), -1.0, 1.0));
+  if (tilt > config_.max_preflight_tilt) {
+    std::snprintf(text, sizeof text, "the IMU reads a tilt of %.2f rad (more than %.2f): set the robot upright", tilt,
+                  config_.max_preflight_tilt);
+    failures.push_back(text);
+  }
+  if (const std::string fault = Fault(); !fault.empty()) failures.push_back(fault);
+  return failures;
+}
+
+}  // namespace flsd::hw

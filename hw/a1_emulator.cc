@@ -43,6 +43,11 @@ EmulatorStats A1Emulator::stats() const {
   return stats_;
 }
 
+LowCommand A1Emulator::last_command() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return command_;
+}
+
 RobotState A1Emulator::TrueState() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return state_;

@@ -57,6 +57,7 @@ class A1Emulator {
   void SetFaults(const EmulatorFaults& faults);
   int port() const { return socket_.port(); }
   EmulatorStats stats() const;
+  LowCommand last_command() const;
   // The simulated robot's true state (for judging the estimator against ground truth).
   RobotState TrueState() const;
 

@@ -51,6 +51,7 @@ HwBackend::~HwBackend() {
 
 void HwBackend::Send(const JointCommand& command) {
   commands_.Write(command);
+  last_command_ns_.store(Clock::now().time_since_epoch().count(), std::memory_order_relaxed);
   have_command_.store(true, std::memory_order_release);
 }
 
@@ -68,6 +69,10 @@ std::string HwBackend::Fault() const {
       std::snprintf(text, sizeof text, "no valid state frame from the robot for %.0f ms", since_valid_.load() * 1e3);
       break;
     case FaultCode::kFrozen: std::snprintf(text, sizeof text, "IMU and joint readings frozen (identical frames)"); break;
+    case FaultCode::kNoCommand:
+      std::snprintf(text, sizeof text, "no command from the control loop for over %.0f ms: the driver damps",
+                    config_.command_timeout * 1e3);
+      break;
     case FaultCode::kMotorMode:
       std::snprintf(text, sizeof text, "motor %s is not in servo mode", a1::kJointNames[std::max(0, fault_joint_.load())]);
       break;
@@ -108,8 +113,14 @@ void HwBackend::Run() {
   bool frozen = false, mode_bad = false;
   auto next = Clock::now();
   while (running_.load(std::memory_order_relaxed)) {
-    if (have_command_.load(std::memory_order_acquire)) commands_.Read(command);
-    EncodeLowCommand(ToLowCommand(command), out);
+    // The command-loss watchdog: if the control loop stops handing commands over (hung, or
+    // crashed), the driver damps on its own rather than hold the last targets forever.
+    const bool commanded = have_command_.load(std::memory_order_acquire);
+    if (commanded) commands_.Read(command);
+    const bool command_lost =
+        commanded && Seconds(Clock::now().time_since_epoch() -
+                             Clock::duration(last_command_ns_.load(std::memory_order_relaxed))) > config_.command_timeout;
+    EncodeLowCommand(ToLowCommand(command_lost ? JointCommand::Damp(config_.damping_kd) : command), out);
     const auto sent_at = Clock::now();
     if (sent_at - next > period / 2) late_.fetch_add(1, std::memory_order_relaxed);
     send_lateness_.Add(Seconds(sent_at - next));
@@ -159,7 +170,8 @@ void HwBackend::Run() {
     }
     since_valid_.store(Seconds(now - last_valid), std::memory_order_relaxed);
     FaultCode fault = FaultCode::kNone;
-    if (Seconds(now - last_valid) > config_.stale_after) fault = FaultCode::kStale;
+    if (command_lost) fault = FaultCode::kNoCommand;
+    else if (Seconds(now - last_valid) > config_.stale_after) fault = FaultCode::kStale;
     else if (frozen && Seconds(now - frozen_since) > config_.frozen_after) fault = FaultCode::kFrozen;
     else if (mode_bad && Seconds(now - mode_bad_since) > config_.motor_mode_after) fault = FaultCode::kMotorMode;
     fault_.store(static_cast<int>(fault), std::memory_order_relaxed);

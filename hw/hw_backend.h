@@ -28,6 +28,8 @@ struct HwConfig {
   double stale_after = 0.1;   // s without a valid state frame: damp
   double frozen_after = 0.1;  // s of bit-identical IMU and joint readings: damp
   double motor_mode_after = 0.05;  // s of a motor not in servo mode while commanded: damp
+  double command_timeout = 0.1;    // s without a command from the control loop: the driver damps
+  double damping_kd = 1.0;         // N m s / rad of the driver's own damping
   double max_motor_temperature = 70.0;  // deg C, checked before torque is enabled
   double max_preflight_tilt = 0.5;      // rad
   double preflight_seconds = 1.0;       // of clean frames required before torque
@@ -44,6 +46,8 @@ struct HwConfig {
     v("stale_after", stale_after, Bounds<double>{0.005, 5.0});
     v("frozen_after", frozen_after, Bounds<double>{0.005, 5.0});
     v("motor_mode_after", motor_mode_after, Bounds<double>{0.002, 5.0});
+    v("command_timeout", command_timeout, Bounds<double>{0.02, 5.0});
+    v("damping_kd", damping_kd, Bounds<double>{0.0, 10.0});
     v("max_motor_temperature", max_motor_temperature, Bounds<double>{20.0, 120.0});
     v("max_preflight_tilt", max_preflight_tilt, Bounds<double>{0.05, 3.2});
     v("preflight_seconds", preflight_seconds, Bounds<double>{0.05, 60.0});
@@ -80,7 +84,7 @@ class HwBackend final : public Backend {
   bool realtime() const { return realtime_; }
 
  private:
-  enum class FaultCode : int { kNone, kStale, kFrozen, kMotorMode };
+  enum class FaultCode : int { kNone, kStale, kFrozen, kMotorMode, kNoCommand };
   void Run();
   LowCommand ToLowCommand(const JointCommand& command) const;
 
@@ -91,6 +95,7 @@ class HwBackend final : public Backend {
   TripleBuffer<RobotState> states_;
   TripleBuffer<LowState> frames_;  // the raw newest frame, for the pre-flight check
   std::atomic<bool> have_command_{false};
+  std::atomic<int64_t> last_command_ns_{0};  // steady clock
   std::atomic<bool> running_{true};
   std::atomic<int> fault_{0};
   std::atomic<int> fault_joint_{-1};

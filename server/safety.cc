@@ -30,7 +30,15 @@ uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_
     // The tolerance keeps a whole number of ticks that sums to the limit from tripping early.
     if (saturated_time_[j] > config_.max_torque_saturation + 1e-9) faults |= kFaultTorque;
   }
+  over_power_time_ = Power(state) > config_.max_power ? over_power_time_ + dt : 0.0;
+  if (over_power_time_ > config_.max_power_time + 1e-9) faults |= kFaultPower;
   return faults;
+}
+
+double SafetySupervisor::Power(const RobotState& state) {
+  double power = 0.0;
+  for (int j = 0; j < a1::kNumJoints; ++j) power += std::abs(state.joint_torque[j] * state.joint_velocity[j]);
+  return power;
 }
 
 void SafetySupervisor::ClampTargets(a1::JointArray<double>& targets) {
@@ -74,6 +82,10 @@ void DescribeFaults(uint32_t faults, const RobotState& state, const SafetyConfig
   }
   if (faults & kFaultTorque) add("%storque at the %.1f N m limit for over %.2f s", a1::kTorqueLimit,
                                  config.max_torque_saturation);
+  if (faults & kFaultPower) {
+    add("%smotor power %.0f W above %.0f W for over %.2f s", SafetySupervisor::Power(state), config.max_power,
+        config.max_power_time);
+  }
   if (faults & kFaultBackend) {
     if (backend != nullptr && backend[0] != '\0') add("%sbackend: %s", backend);
     else add("%sbackend state not trusted");

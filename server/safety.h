@@ -20,6 +20,7 @@ enum FaultBit : uint32_t {
   kFaultBackend = 1u << 5,        // the backend's state cannot be trusted
   kFaultPolicy = 1u << 6,         // the policy produced a non-finite action
   kFaultStop = 1u << 7,           // an emergency stop (damp) from a client
+  kFaultPower = 1u << 8,          // mechanical power sum |tau qdot| above its limit for too long
 };
 
 // Writes "tilt 1.31 rad > 1.00; ..." for `faults` into out (always terminated); `backend` is the
@@ -35,7 +36,12 @@ class SafetySupervisor {
   // saturation is timed across calls; Reset() forgets it (call it when the motors go slack).
   // `check_height`: false while the robot rises from the floor, where a low base is expected.
   uint32_t Check(const RobotState& state, double dt, bool check_height = true);
-  void Reset() { saturated_time_.fill(0.0); }
+  void Reset() {
+    saturated_time_.fill(0.0);
+    over_power_time_ = 0.0;
+  }
+  // Mechanical power of the 12 motors, sum of |tau qdot|, W (the vendor SDK's PowerProtect sum).
+  static double Power(const RobotState& state);
 
   // Clamps joint targets into the A1's joint ranges.
   static void ClampTargets(a1::JointArray<double>& targets);
@@ -48,6 +54,7 @@ class SafetySupervisor {
  private:
   SafetyConfig config_;
   a1::JointArray<double> saturated_time_{};
+  double over_power_time_ = 0.0;
 };
 
 }  // namespace flsd

@@ -17,6 +17,8 @@ struct SafetyConfig {
   double joint_range_margin = 0.1;    // rad a joint may be outside the A1's range before a trip
   double max_joint_velocity = a1::kJointVelocityLimit;  // rad/s, the A1 motor's limit
   double max_torque_saturation = 0.5;  // s a joint may sit at the torque limit
+  double max_power = 1000.0;       // W, sum of |tau qdot| (the SDK's PowerProtect at its level 10)
+  double max_power_time = 0.1;     // s above max_power before a trip
   double damping_kd = 1.0;             // N m s / rad of the damped (safe) command
   template <class V>
   void Visit(V& v) {
@@ -25,6 +27,8 @@ struct SafetyConfig {
     v("joint_range_margin", joint_range_margin, Bounds<double>{0.0, 1.0});
     v("max_joint_velocity", max_joint_velocity, Bounds<double>{1.0, 100.0});
     v("max_torque_saturation", max_torque_saturation, Bounds<double>{0.02, 10.0});
+    v("max_power", max_power, Bounds<double>{10.0, 10000.0});
+    v("max_power_time", max_power_time, Bounds<double>{0.0, 10.0});
     v("damping_kd", damping_kd, Bounds<double>{0.0, 10.0});
   }
 };

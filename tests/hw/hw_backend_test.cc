@@ -136,6 +136,29 @@ TEST_F(HwBackendTest, ADeadMotorIsAFaultOnceItIsCommanded) {
   EXPECT_THAT(WaitForFault(1s), HasSubstr("motor FL_thigh_joint is not in servo mode"));
 }
 
+TEST_F(HwBackendTest, TheDriverDampsByItselfWhenTheControlLoopGoesQuiet) {
+  Connect();
+  ASSERT_TRUE(backend_->Preflight().empty());
+  for (int i = 0; i < 10; ++i) {  // a control loop at 50 Hz...
+    backend_->Send(JointCommand::Track(a1::kDefaultJointPos));
+    std::this_thread::sleep_for(20ms);
+  }
+  EXPECT_EQ(backend_->Fault(), "");
+  EXPECT_EQ(emulator_->last_command().motors[1].kp, 20.0f);
+  // ...that stops.
+  EXPECT_THAT(WaitForFault(1s), HasSubstr("no command from the control loop"));
+  std::this_thread::sleep_for(20ms);
+  const LowCommand sent = emulator_->last_command();
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    EXPECT_EQ(sent.motors[j].kp, 0.0f) << j;
+    EXPECT_EQ(sent.motors[j].kd, 1.0f) << j;
+    EXPECT_EQ(sent.motors[j].mode, kModeServo) << j;
+  }
+  backend_->Send(JointCommand::Track(a1::kDefaultJointPos));  // it comes back
+  std::this_thread::sleep_for(20ms);
+  EXPECT_EQ(backend_->Fault(), "");
+}
+
 TEST_F(HwBackendTest, DroppedFramesAloneAreNoFault) {
   Connect();
   ASSERT_TRUE(backend_->Preflight().empty());

@@ -96,6 +96,23 @@ TEST(SafetySupervisor, TorqueSaturationTripsAfterItsTimeAndResetsWhenItEnds) {
   for (int tick = 0; tick < 25; ++tick) ASSERT_EQ(supervisor.Check(s, 0.02), 0u);
 }
 
+TEST(SafetySupervisor, PowerAboveTheLimitTripsAfterItsTime) {
+  SafetyConfig config;
+  config.max_power = 1000.0;
+  config.max_power_time = 0.1;
+  SafetySupervisor supervisor(config);
+  RobotState s = Standing();
+  s.joint_torque[1] = 30.0;
+  s.joint_velocity[1] = -20.0;  // 600 W
+  s.joint_torque[4] = -25.0;
+  s.joint_velocity[4] = 18.0;   // 450 W: 1050 W in all
+  EXPECT_DOUBLE_EQ(SafetySupervisor::Power(s), 1050.0);
+  for (int tick = 0; tick < 5; ++tick) ASSERT_EQ(supervisor.Check(s, 0.02), 0u) << "tick " << tick;
+  EXPECT_EQ(supervisor.Check(s, 0.02), kFaultPower);
+  s.joint_velocity[4] = 10.0;  // 850 W: below, and the clock restarts
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+}
+
 TEST(SafetySupervisor, ClampTargetsKeepsEveryJointInItsRange) {
   a1::JointArray<double> q;
   q.fill(10.0);

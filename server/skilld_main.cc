@@ -4,12 +4,13 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
-#include <csignal>
+#include <cstring>
 #include <memory>
 #include <thread>
 
 #include "core/check.h"
 #include "core/paths.h"
+#include "core/signals.h"
 #include "server/control_loop.h"
 #include "server/dds_service.h"
 #include "sim/sim_backend.h"
@@ -48,12 +49,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1e9));
   CLI11_PARSE(app, argc, argv);
 
-  // Signals are taken by sigwait on this thread, never by a handler in another one.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  flsd::BlockTerminationSignals();
 
   try {
     flsd::ServerConfig config = flsd::LoadServerConfig(flsd::ResolveDataPath(config_path));
@@ -76,13 +72,7 @@ int main(int argc, char** argv) {
     spdlog::info("skilld ready: backend {}, library {} ({} skills), DDS domain {}, partition '{}'", backend->name(),
                  library.path(), library.num_skills(), config.domain_id, config.partition);
 
-    int signal = 0;
-    if (run_seconds > 0.0) {
-      const timespec timeout{static_cast<time_t>(run_seconds), static_cast<long>((run_seconds - static_cast<long>(run_seconds)) * 1e9)};
-      signal = sigtimedwait(&signals, nullptr, &timeout);
-    } else {
-      sigwait(&signals, &signal);
-    }
+    const int signal = flsd::WaitForTermination(run_seconds);
     spdlog::info("skilld stopping ({}): damping the robot", signal > 0 ? strsignal(signal) : "run time over");
     service.Stop();
     flsd::ControlRequest damp;

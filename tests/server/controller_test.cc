@@ -12,14 +12,7 @@
 
 #include "tests/server/server_fixture.h"
 
-// Counts heap allocations while `g_count_mallocs` is set (interposes malloc for the process).
-extern "C" void* __libc_malloc(size_t size);
-static std::atomic<bool> g_count_mallocs{false};
-static std::atomic<long> g_mallocs{0};
-extern "C" void* malloc(size_t size) {
-  if (g_count_mallocs.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(size);
-}
+#include "tests/common/malloc_counter.h"
 
 namespace flsd {
 namespace {
@@ -171,11 +164,10 @@ TEST_F(ControllerTest, TheControlTickAllocatesNothing) {
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 1.5)));
   RunFor(1.0);  // into the skill
   ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
-  g_mallocs = 0;
-  g_count_mallocs = true;
-  for (int i = 0; i < 100; ++i) controller_.Tick();  // skill, then stand again
-  g_count_mallocs = false;
-  EXPECT_EQ(g_mallocs.load(), 0);
+  EXPECT_EQ(testutil::CountMallocs([&] {
+              for (int i = 0; i < 100; ++i) controller_.Tick();  // skill, then stand again
+            }),
+            0);
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
 }
 

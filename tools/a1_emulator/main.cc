@@ -4,9 +4,9 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
-#include <csignal>
 
 #include "core/check.h"
+#include "core/signals.h"
 #include "hw/a1_emulator.h"
 
 int main(int argc, char** argv) {
@@ -26,23 +26,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1e6));
   CLI11_PARSE(app, argc, argv);
 
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  flsd::BlockTerminationSignals();
   try {
     flsd::hw::A1Emulator emulator(config);
     emulator.Start();
     spdlog::info("a1_emulator listening on {}:{}", config.host, emulator.port());
-    int signal = 0;
-    if (fault_after > 0.0) {
-      const timespec wait{static_cast<time_t>(fault_after), static_cast<long>((fault_after - static_cast<long>(fault_after)) * 1e9)};
-      signal = sigtimedwait(&signals, nullptr, &wait);
-    }
-    if (signal <= 0) {
+    const bool stopped_early = fault_after > 0.0 && flsd::WaitForTermination(fault_after) != 0;
+    if (!stopped_early) {
       emulator.SetFaults(faults);
-      sigwait(&signals, &signal);
+      flsd::WaitForTermination();
     }
     emulator.Stop();
     const flsd::hw::EmulatorStats s = emulator.stats();

@@ -16,15 +16,7 @@
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
 
-// Counts heap allocations while `g_count_mallocs` is set. Defining malloc in the test executable
-// interposes it for every library the process uses, Eigen included.
-extern "C" void* __libc_malloc(size_t size);
-static std::atomic<bool> g_count_mallocs{false};
-static std::atomic<long> g_mallocs{0};
-extern "C" void* malloc(size_t size) {
-  if (g_count_mallocs.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(size);
-}
+#include "tests/common/malloc_counter.h"
 
 namespace flsd {
 namespace {
@@ -131,11 +123,10 @@ TEST_F(SkillLibraryTest, ActAllocatesNothing) {
   std::vector<float> obs(lib.policy_obs_size(), 0.5f);
   float action[kActionSize];
   runner.Act(obs.data(), action);
-  g_mallocs = 0;
-  g_count_mallocs = true;
-  for (int i = 0; i < 100; ++i) runner.Act(obs.data(), action);
-  g_count_mallocs = false;
-  EXPECT_EQ(g_mallocs.load(), 0);
+  EXPECT_EQ(testutil::CountMallocs([&] {
+              for (int i = 0; i < 100; ++i) runner.Act(obs.data(), action);
+            }),
+            0);
 }
 
 TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {

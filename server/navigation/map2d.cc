@@ -1,0 +1,114 @@
+#include "server/navigation/map2d.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/check.h"
+#include "core/paths.h"
+
+namespace flsd {
+namespace {
+
+Eigen::Vector2d Point(const YAML::Node& node, const std::string& where) {
+  if (!node.IsSequence() || node.size() != 2) throw InputError(where + ": expected a point [x, y]");
+  const Eigen::Vector2d p(node[0].as<double>(), node[1].as<double>());
+  if (!p.allFinite()) throw InputError(where + ": expected finite coordinates");
+  return p;
+}
+
+double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = ab.squaredNorm() > 0.0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+bool Inside(const Eigen::Vector2d& p, const Map2D::Polygon& polygon) {
+  bool inside = false;
+  for (size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+}  // namespace
+
+Map2D Map2D::Parse(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+  }
+  if (!root.IsMap()) throw InputError(source + ": expected a map with bounds, robot_radius, circles, polygons");
+  Map2D map;
+  try {
+    for (const auto& entry : root) {
+      const std::string key = entry.first.as<std::string>();
+      const YAML::Node& value = entry.second;
+      const std::string where = source + ": " + key;
+      if (key == "bounds") {
+        if (!value.IsSequence() || value.size() != 4) throw InputError(where + ": expected [x_min, x_max, y_min, y_max]");
+        map.x_min = value[0].as<double>();
+        map.x_max = value[1].as<double>();
+        map.y_min = value[2].as<double>();
+        map.y_max = value[3].as<double>();
+        if (!(map.x_min < map.x_max && map.y_min < map.y_max)) throw InputError(where + ": expected min < max");
+      } else if (key == "robot_radius") {
+        map.robot_radius = value.as<double>();
+        if (!(map.robot_radius >= 0.0 && map.robot_radius < 5.0)) throw InputError(where + ": expected [0, 5) m");
+      } else if (key == "circles") {
+        for (size_t i = 0; i < value.size(); ++i) {
+          const std::string at = where + "[" + std::to_string(i) + "]";
+          Circle c{Point(value[i]["center"], at + ".center"), value[i]["radius"].as<double>()};
+          if (!(c.radius > 0.0)) throw InputError(at + ".radius: expected a positive radius");
+          map.circles.push_back(c);
+        }
+      } else if (key == "polygons") {
+        for (size_t i = 0; i < value.size(); ++i) {
+          const std::string at = where + "[" + std::to_string(i) + "]";
+          if (!value[i].IsSequence() || value[i].size() < 3) throw InputError(at + ": expected at least 3 points");
+          Polygon polygon;
+          for (size_t k = 0; k < value[i].size(); ++k) polygon.push_back(Point(value[i][k], at + "[" + std::to_string(k) + "]"));
+          map.polygons.push_back(std::move(polygon));
+        }
+      } else {
+        throw InputError(where + ": unknown key (expected bounds, robot_radius, circles, polygons)");
+      }
+    }
+  } catch (const YAML::Exception& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  return map;
+}
+
+Map2D Map2D::Load(const std::string& path) {
+  const std::string file = ResolveDataPath(path);
+  std::ifstream in(file);
+  if (!in) throw InputError(file + ": cannot open map");
+  std::stringstream text;
+  text << in.rdbuf();
+  return Parse(text.str(), file);
+}
+
+double Map2D::Clearance(const Eigen::Vector2d& p) const {
+  double clearance = std::min({p.x() - x_min, x_max - p.x(), p.y() - y_min, y_max - p.y()});
+  for (const Circle& c : circles) clearance = std::min(clearance, (p - c.center).norm() - c.radius);
+  for (const Polygon& polygon : polygons) {
+    double edge = HUGE_VAL;
+    for (size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+      edge = std::min(edge, SegmentDistance(p, polygon[j], polygon[i]));
+    }
+    clearance = std::min(clearance, Inside(p, polygon) ? -edge : edge);
+  }
+  return clearance;
+}
+
+}  // namespace flsd

@@ -1,0 +1,112 @@
+#include "server/navigation/path_planner.h"
+
+#include <ompl/base/objectives/PathLengthOptimizationObjective.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/SimpleSetup.h>
+#include <ompl/geometric/planners/rrt/InformedRRTstar.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace flsd {
+namespace {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+std::string Where(const Eigen::Vector2d& p) {
+  char text[64];
+  std::snprintf(text, sizeof text, "(%.2f, %.2f)", p.x(), p.y());
+  return text;
+}
+
+}  // namespace
+
+const char* ToString(PlannedPath::Status status) {
+  switch (status) {
+    case PlannedPath::Status::kFound: return "found";
+    case PlannedPath::Status::kStartBlocked: return "start blocked";
+    case PlannedPath::Status::kGoalBlocked: return "goal blocked";
+    case PlannedPath::Status::kNoPath: return "no path";
+  }
+  return "unknown";
+}
+
+std::vector<Eigen::Vector2d> Densify(const std::vector<Eigen::Vector2d>& path, double spacing) {
+  std::vector<Eigen::Vector2d> out;
+  if (path.empty()) return out;
+  out.push_back(path.front());
+  for (size_t i = 1; i < path.size(); ++i) {
+    const Eigen::Vector2d step = path[i] - path[i - 1];
+    const int pieces = std::max(1, static_cast<int>(std::ceil(step.norm() / spacing)));
+    for (int k = 1; k <= pieces; ++k) out.push_back(path[i - 1] + step * (static_cast<double>(k) / pieces));
+  }
+  return out;
+}
+
+PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+                     const PlannerOptions& options) {
+  PlannedPath result;
+  const auto begin = std::chrono::steady_clock::now();
+  if (!map.IsFree(start)) {
+    result.status = PlannedPath::Status::kStartBlocked;
+    result.message = "the start " + Where(start) + " is within the robot's radius of an obstacle or the map's edge";
+    return result;
+  }
+  if (!map.IsFree(goal)) {
+    result.status = PlannedPath::Status::kGoalBlocked;
+    result.message = "the goal " + Where(goal) + " is within the robot's radius of an obstacle or the map's edge";
+    return result;
+  }
+
+  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+  ompl::RNG::setSeed(options.seed);
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  ob::RealVectorBounds bounds(2);
+  bounds.setLow(0, map.x_min);
+  bounds.setHigh(0, map.x_max);
+  bounds.setLow(1, map.y_min);
+  bounds.setHigh(1, map.y_max);
+  space->setBounds(bounds);
+  og::SimpleSetup setup(space);
+  setup.setStateValidityChecker([&map](const ob::State* s) {
+    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+    return map.IsFree(Eigen::Vector2d(v->values[0], v->values[1]));
+  });
+  const double extent = std::max(map.x_max - map.x_min, map.y_max - map.y_min);
+  setup.getSpaceInformation()->setStateValidityCheckingResolution(options.collision_resolution / extent);
+  ob::ScopedState<> from(space), to(space);
+  from[0] = start.x();
+  from[1] = start.y();
+  to[0] = goal.x();
+  to[1] = goal.y();
+  setup.setStartAndGoalStates(from, to);
+  setup.getProblemDefinition()->setOptimizationObjective(
+      std::make_shared<ob::PathLengthOptimizationObjective>(setup.getSpaceInformation()));
+  setup.setPlanner(std::make_shared<og::InformedRRTstar>(setup.getSpaceInformation()));
+
+  const ob::PlannerStatus status = setup.solve(options.time_limit);
+  if (status != ob::PlannerStatus::EXACT_SOLUTION) {
+    result.status = PlannedPath::Status::kNoPath;
+    result.message = "no collision-free path from " + Where(start) + " to " + Where(goal) + " found in " +
+                     std::to_string(options.time_limit) + " s";
+  } else {
+    setup.simplifySolution();
+    const og::PathGeometric& path = setup.getSolutionPath();
+    std::vector<Eigen::Vector2d> corners;
+    for (std::size_t i = 0; i < path.getStateCount(); ++i) {
+      const auto* v = path.getState(i)->as<ob::RealVectorStateSpace::StateType>();
+      corners.emplace_back(v->values[0], v->values[1]);
+    }
+    result.status = PlannedPath::Status::kFound;
+    result.waypoints = Densify(corners, options.waypoint_spacing);
+    result.length = path.length();
+  }
+  result.planning_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return result;
+}
+
+}  // namespace flsd

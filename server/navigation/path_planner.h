@@ -1,0 +1,38 @@
+#pragma once
+// Plans a collision-free path on a Map2D with OMPL: an asymptotically optimal planner (informed
+// RRT*) for a fixed time, then OMPL's path simplification, then waypoints no further apart than
+// a set spacing, for the follower.
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+#include "server/navigation/map2d.h"
+
+namespace flsd {
+
+struct PlannerOptions {
+  double time_limit = 0.5;        // s of planning
+  double waypoint_spacing = 0.5;  // m, at most, between waypoints
+  double collision_resolution = 0.02;  // m along a segment between checks
+  unsigned seed = 1;              // OMPL's sampler, for reproducible paths
+};
+
+struct PlannedPath {
+  enum class Status { kFound, kStartBlocked, kGoalBlocked, kNoPath };
+  Status status = Status::kNoPath;
+  std::vector<Eigen::Vector2d> waypoints;  // from the start to the goal, both included
+  double length = 0.0;                     // m
+  double planning_seconds = 0.0;
+  std::string message;  // why, when not found
+};
+const char* ToString(PlannedPath::Status status);
+
+PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+                     const PlannerOptions& options = {});
+
+// The waypoints of a polyline with consecutive points at most `spacing` apart.
+std::vector<Eigen::Vector2d> Densify(const std::vector<Eigen::Vector2d>& path, double spacing);
+
+}  // namespace flsd

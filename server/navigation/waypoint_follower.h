@@ -1,0 +1,43 @@
+#pragma once
+// Turns a planned path into body-frame velocity commands (vx, vy, wz) for the skill selector:
+// pure pursuit of a point `lookahead` metres further along the path, walking towards it (a
+// quadruped may step sideways) while turning to face the direction of travel.
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace flsd {
+
+struct FollowerConfig {
+  double lookahead = 0.6;        // m along the path
+  double max_speed = 0.5;        // m/s
+  double max_turn_rate = 1.0;    // rad/s
+  double heading_gain = 1.5;     // rad/s per rad of heading error
+  double goal_tolerance = 0.25;  // m from the last waypoint counts as reached
+  double replan_distance = 0.75;  // m off the path: plan again
+};
+
+struct FollowerCommand {
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // vx, vy (m/s, body frame), wz (rad/s)
+  bool reached = false;
+  bool off_path = false;
+  double distance_to_path = 0.0;  // m
+  double remaining = 0.0;         // m along the path to the goal
+};
+
+class WaypointFollower {
+ public:
+  WaypointFollower(std::vector<Eigen::Vector2d> waypoints, const FollowerConfig& config);
+
+  // The command for a robot at `position` (world, m) heading `yaw` (rad).
+  FollowerCommand Update(const Eigen::Vector2d& position, double yaw);
+
+ private:
+  std::vector<Eigen::Vector2d> waypoints_;
+  std::vector<double> arc_;  // path length from the start to each waypoint
+  FollowerConfig config_;
+  double progress_ = 0.0;  // arc length of the closest point found so far; never goes back
+};
+
+}  // namespace flsd

@@ -1,0 +1,51 @@
+// Map2D: clearances with known answers, inflation by the robot's radius, and errors that name
+// the key for bad maps.
+
+#include "server/navigation/map2d.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "tests/common/test_support.h"
+
+namespace flsd {
+namespace {
+
+using ::testing::HasSubstr;
+using testutil::InputErrorMessage;
+
+TEST(Map2D, ClearanceIsTheDistanceToTheNearestObstacleOrEdge) {
+  const Map2D map = Map2D::Parse(
+      "bounds: [-5, 5, -5, 5]\nrobot_radius: 0.3\ncircles: [{center: [2, 0], radius: 1}]\n"
+      "polygons: [[[-3, -1], [-2, -1], [-2, 1], [-3, 1]]]\n",
+      "test");
+  EXPECT_DOUBLE_EQ(map.Clearance(Eigen::Vector2d(0.0, 0.0)), 1.0);   // circle edge at x = 1
+  EXPECT_DOUBLE_EQ(map.Clearance(Eigen::Vector2d(0.0, 4.5)), 0.5);   // the top bound
+  EXPECT_DOUBLE_EQ(map.Clearance(Eigen::Vector2d(2.0, 0.5)), -0.5);  // inside the circle
+  EXPECT_DOUBLE_EQ(map.Clearance(Eigen::Vector2d(-2.5, 0.0)), -0.5);  // inside the box
+  EXPECT_NEAR(map.Clearance(Eigen::Vector2d(-1.0, 2.0)), std::hypot(1.0, 1.0), 1e-12);  // box corner
+  EXPECT_TRUE(map.IsFree(Eigen::Vector2d(0.0, 0.0)));
+  EXPECT_FALSE(map.IsFree(Eigen::Vector2d(0.75, 0.0)));  // 0.25 m from the circle < 0.3
+}
+
+TEST(Map2D, ShippedMapsLoad) {
+  for (const char* name : {"open", "wall_gap", "enclosed", "demo"}) {
+    const Map2D map = Map2D::Load(std::string("configs/maps/") + name + ".yaml");
+    EXPECT_GT(map.x_max, map.x_min) << name;
+  }
+}
+
+TEST(Map2D, BadMapsAreErrorsThatNameTheKey) {
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse("bounds: [1, 0, 0, 1]", "m.yaml"); }),
+              HasSubstr("m.yaml: bounds: expected min < max"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse("circles: [{center: [0, 0], radius: -1}]", "m.yaml"); }),
+              HasSubstr("m.yaml: circles[0].radius: expected a positive radius"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse("polygons: [[[0, 0], [1, 1]]]", "m.yaml"); }),
+              HasSubstr("polygons[0]: expected at least 3 points"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse("walls: []", "m.yaml"); }), HasSubstr("m.yaml: walls: unknown key"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse("bounds: [0, 1", "m.yaml"); }), HasSubstr("malformed YAML"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Load("/nonexistent/map.yaml"); }), HasSubstr("/nonexistent/map.yaml"));
+}
+
+}  // namespace
+}  // namespace flsd

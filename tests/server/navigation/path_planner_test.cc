@@ -1,0 +1,81 @@
+// The planner on maps with known answers: a free straight line, a wall with a gap, a goal inside
+// an obstacle, and an enclosed goal.
+
+#include "server/navigation/path_planner.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace flsd {
+namespace {
+
+using Status = PlannedPath::Status;
+
+// OMPL checks a segment every 2.8 cm; a chord between two checks can dip into a rounded,
+// inflated corner by s^2 / 8r, 0.3 mm here. 2 mm of the 35 cm inflation is allowed for it.
+void ExpectCollisionFree(const Map2D& map, const PlannedPath& path) {
+  for (size_t i = 1; i < path.waypoints.size(); ++i) {
+    const Eigen::Vector2d a = path.waypoints[i - 1], b = path.waypoints[i];
+    for (double t = 0.0; t <= 1.0; t += 0.01) {
+      ASSERT_GE(map.Clearance(a + t * (b - a)), map.robot_radius - 0.002) << "segment " << i;
+    }
+  }
+}
+
+TEST(PlanPath, InAnOpenRoomThePathIsTheStraightLine) {
+  const Map2D map = Map2D::Load("configs/maps/open.yaml");
+  const PlannedPath path = PlanPath(map, {-3.0, -2.0}, {3.0, 2.0});
+  ASSERT_EQ(path.status, Status::kFound) << path.message;
+  EXPECT_NEAR(path.length, std::hypot(6.0, 4.0), 0.01);
+  EXPECT_TRUE(path.waypoints.front().isApprox(Eigen::Vector2d(-3.0, -2.0)));
+  EXPECT_TRUE(path.waypoints.back().isApprox(Eigen::Vector2d(3.0, 2.0)));
+  for (size_t i = 1; i < path.waypoints.size(); ++i) {
+    EXPECT_LE((path.waypoints[i] - path.waypoints[i - 1]).norm(), 0.5 + 1e-9);
+  }
+}
+
+TEST(PlanPath, AWallIsPassedThroughItsGap) {
+  const Map2D map = Map2D::Load("configs/maps/wall_gap.yaml");
+  const PlannedPath path = PlanPath(map, {-3.0, 0.0}, {3.0, 0.0});
+  ASSERT_EQ(path.status, Status::kFound) << path.message;
+  ExpectCollisionFree(map, path);
+  bool through_gap = false;
+  for (const Eigen::Vector2d& p : path.waypoints) through_gap |= std::abs(p.x()) < 0.3 && p.y() > 1.4 && p.y() < 2.6;
+  EXPECT_TRUE(through_gap);
+  // The shortest way: tangent from the start to the rounded end of the inflated wall (a circle of
+  // 0.35 m about (-0.1, 1.4)), around it to its top, across the gap's 0.2 m, and back down.
+  const double d = std::hypot(2.9, 1.4), r = 0.35;
+  const double wrap = std::atan2(1.4, 2.9) + std::asin(r / d);  // arc from the tangent point to the top
+  const double shortest = 2.0 * (std::sqrt(d * d - r * r) + r * wrap) + 0.2;  // 6.993 m
+  EXPECT_GT(path.length, shortest - 0.01);
+  EXPECT_LT(path.length, shortest * 1.05);
+}
+
+TEST(PlanPath, AGoalInsideAnObstacleIsBlocked) {
+  const Map2D map = Map2D::Load("configs/maps/demo.yaml");
+  const PlannedPath path = PlanPath(map, {0.0, 0.0}, {1.5, 0.2});
+  EXPECT_EQ(path.status, Status::kGoalBlocked);
+  EXPECT_THAT(path.message, ::testing::HasSubstr("the goal (1.50, 0.20)"));
+  EXPECT_TRUE(path.waypoints.empty());
+}
+
+TEST(PlanPath, AnEnclosedGoalHasNoPath) {
+  const Map2D map = Map2D::Load("configs/maps/enclosed.yaml");
+  PlannerOptions options;
+  options.time_limit = 0.2;
+  const PlannedPath path = PlanPath(map, {-3.0, -3.0}, {3.0, 3.0}, options);
+  EXPECT_EQ(path.status, Status::kNoPath);
+  EXPECT_THAT(path.message, ::testing::HasSubstr("no collision-free path"));
+}
+
+TEST(Densify, KeepsCornersAndSpacesPointsEvenly) {
+  const std::vector<Eigen::Vector2d> d = Densify({{0, 0}, {1, 0}, {1, 0.4}}, 0.3);
+  ASSERT_EQ(d.size(), 7u);  // the start, 4 pieces of 0.25 m, 2 pieces of 0.2 m
+  EXPECT_TRUE(d[1].isApprox(Eigen::Vector2d(0.25, 0.0)));
+  EXPECT_TRUE(d[4].isApprox(Eigen::Vector2d(1.0, 0.0)));
+  EXPECT_TRUE(d[5].isApprox(Eigen::Vector2d(1.0, 0.2)));
+  EXPECT_TRUE(d[6].isApprox(Eigen::Vector2d(1.0, 0.4)));
+}
+
+}  // namespace
+}  // namespace flsd

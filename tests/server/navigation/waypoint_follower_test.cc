@@ -1,0 +1,61 @@
+// The follower's commands for robots placed by hand along a known path.
+
+#include "server/navigation/waypoint_follower.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace flsd {
+namespace {
+
+const std::vector<Eigen::Vector2d> kStraight = {{0, 0}, {1, 0}, {2, 0}, {3, 0}};
+
+TEST(WaypointFollower, WalksForwardAlongAStraightPathItFaces) {
+  WaypointFollower follower(kStraight, FollowerConfig{});
+  const FollowerCommand c = follower.Update({0.0, 0.0}, 0.0);
+  EXPECT_NEAR(c.velocity.x(), 0.5, 1e-9);
+  EXPECT_NEAR(c.velocity.y(), 0.0, 1e-9);
+  EXPECT_NEAR(c.velocity.z(), 0.0, 1e-9);
+  EXPECT_FALSE(c.reached);
+  EXPECT_NEAR(c.remaining, 3.0, 1e-9);
+}
+
+TEST(WaypointFollower, TurnsTowardsAPathToItsLeft) {
+  WaypointFollower follower(kStraight, FollowerConfig{});
+  const FollowerCommand c = follower.Update({0.0, 0.0}, -M_PI / 2);  // facing -y: the path is to its left
+  EXPECT_NEAR(c.velocity.y(), 0.5, 1e-9);  // it steps left, towards the path
+  EXPECT_NEAR(c.velocity.z(), 1.0, 1e-9);  // and turns left, at the rate limit
+}
+
+TEST(WaypointFollower, SteersBackOntoThePathAndSaysWhenItIsTooFarOff) {
+  WaypointFollower follower(kStraight, FollowerConfig{});
+  const FollowerCommand near = follower.Update({1.0, 0.3}, 0.0);
+  EXPECT_LT(near.velocity.y(), 0.0);  // back towards y = 0
+  EXPECT_FALSE(near.off_path);
+  EXPECT_NEAR(near.distance_to_path, 0.3, 1e-9);
+  EXPECT_TRUE(follower.Update({1.0, 1.0}, 0.0).off_path);
+}
+
+TEST(WaypointFollower, SlowsDownAndStopsAtTheGoal) {
+  WaypointFollower follower(kStraight, FollowerConfig{});
+  follower.Update({2.0, 0.0}, 0.0);
+  const FollowerCommand close = follower.Update({2.6, 0.0}, 0.0);
+  EXPECT_NEAR(close.velocity.x(), 0.5 * 0.4 / 0.5, 1e-9);
+  const FollowerCommand done = follower.Update({2.9, 0.05}, 0.0);
+  EXPECT_TRUE(done.reached);
+  EXPECT_EQ(done.velocity, Eigen::Vector3d::Zero());
+}
+
+TEST(WaypointFollower, NeverGoesBackAlongALoopedPath) {
+  // Out along y = 0 and back along y = 0.2: near the start, the return leg is what is left.
+  WaypointFollower follower({{0, 0}, {2, 0}, {2, 0.2}, {0, 0.2}}, FollowerConfig{});
+  follower.Update({1.0, 0.0}, 0.0);
+  follower.Update({2.0, 0.1}, M_PI / 2);
+  const FollowerCommand back = follower.Update({1.0, 0.2}, M_PI);
+  EXPECT_GT(back.velocity.x(), 0.0);  // facing -x, it keeps walking forward, towards x = 0
+  EXPECT_NEAR(back.remaining, 1.0, 0.05);
+}
+
+}  // namespace
+}  // namespace flsd

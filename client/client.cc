@@ -22,6 +22,9 @@ std::string MakeClientId() {
 std::string Own(const char* s) { return s != nullptr ? s : ""; }
 
 constexpr std::chrono::microseconds kSpin{1000};
+// Long enough for a slow network and some clock skew between client and server (deadlines are
+// wall-clock times), short enough to renew a lease of a second before it lapses.
+constexpr std::chrono::milliseconds kHeartbeatTimeout{800};
 
 }  // namespace
 
@@ -51,6 +54,7 @@ Client::~Client() {
   wake_.Trigger();
   if (background_.joinable()) background_.join();
   if (in_control_) ReleaseControl(std::chrono::milliseconds(500));
+  replies_.RemoveListener();  // before the members its callback uses are destroyed
 }
 
 bool Client::WaitForServer(std::chrono::milliseconds timeout) {
@@ -100,24 +104,31 @@ CallResult Client::Call(const std::string& call, const CallArgs& args, std::chro
   return std::move(awaited_result_);
 }
 
-void Client::OnReplies(dds_entity_t, void* self) {
+void Client::OnReplies(dds_entity_t reader, void* self) {
   auto* client = static_cast<Client*>(self);
-  std::lock_guard<std::mutex> lock(client->reply_mutex_);
-  // Replies to every client share the topic; keep only the answer to the call in flight.
-  client->replies_.Take([&](const flsd_msgs_Reply& reply, const dds_sample_info_t&) {
-    if (client->awaited_request_id_ == 0 || reply.header.request_id != client->awaited_request_id_ ||
-        Own(reply.header.client_id) != client->id_) {
+  // Nothing may unwind into Cyclone's receive thread: it would end the process.
+  try {
+    client->TakeReplies(reader);
+  } catch (...) {
+  }
+}
+
+void Client::TakeReplies(dds_entity_t reader) {
+  std::lock_guard<std::mutex> lock(reply_mutex_);
+  // Replies to every client share the topic; keep only the answer to the call in flight. The
+  // reader comes from Cyclone: the listener can fire before replies_ is fully constructed.
+  dds::TakeSamples<flsd_msgs_Reply>(reader, [&](const flsd_msgs_Reply& reply, const dds_sample_info_t&) {
+    if (awaited_request_id_ == 0 || reply.header.request_id != awaited_request_id_ || Own(reply.header.client_id) != id_) {
       return;
     }
-    CallResult& result = client->awaited_result_;
-    result.answered = true;
-    result.status = reply.status;
-    result.message = Own(reply.message);
-    result.safety_report = Own(reply.safety_report);
-    result.skills.assign(reply.skills._buffer, reply.skills._buffer + reply.skills._length);
-    client->reply_ready_.store(true, std::memory_order_release);
+    awaited_result_.answered = true;
+    awaited_result_.status = reply.status;
+    awaited_result_.message = Own(reply.message);
+    awaited_result_.safety_report = Own(reply.safety_report);
+    awaited_result_.skills.assign(reply.skills._buffer, reply.skills._buffer + reply.skills._length);
+    reply_ready_.store(true, std::memory_order_release);
   }, 1 << 30);
-  if (client->reply_ready_) client->reply_arrived_.notify_all();
+  if (reply_ready_) reply_arrived_.notify_all();
 }
 
 CallResult Client::AcquireControl(std::chrono::milliseconds timeout) {
@@ -174,8 +185,9 @@ void Client::Background() {
     const auto now = std::chrono::steady_clock::now();
     if (in_control_ && now >= next_heartbeat) {
       next_heartbeat = now + options_.heartbeat;
-      const CallResult r = Call("renew_control", {}, options_.heartbeat);
-      if (r.answered && r.status != flsd_msgs_STATUS_OK) {
+      // A slow or late heartbeat is not a lost lease; only the server saying so is.
+      const CallResult r = Call("renew_control", {}, kHeartbeatTimeout);
+      if (r.answered && r.status == flsd_msgs_STATUS_NOT_IN_CONTROL) {
         lost_control_ = true;
         in_control_ = false;
       }

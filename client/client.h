@@ -1,7 +1,8 @@
 #pragma once
 // flsd::Client: calls skilld over DDS and follows its state topic. Calls are synchronous with a
 // timeout; while the client holds control, a background thread renews the lease, so a client
-// that dies (or hangs) lets the robot stand within the lease timeout.
+// process that dies lets the robot stand within the lease timeout. (A client whose main thread
+// hangs keeps renewing: give long motions a duration, which the server enforces.)
 
 #include <array>
 #include <atomic>
@@ -82,6 +83,7 @@ class Client {
  private:
   void Background();
   static void OnReplies(dds_entity_t reader, void* self);
+  void TakeReplies(dds_entity_t reader);
 
   std::string id_;
   Options options_;

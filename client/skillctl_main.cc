@@ -66,7 +66,9 @@ struct MotionSummary {
 
 // Follows this client's long call until it ends; Ctrl-C stops the robot.
 int FollowTask(flsd::Client& client, const std::string& call, bool quiet) {
-  auto last_print = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  const auto start = std::chrono::steady_clock::now();
+  auto last_print = start - std::chrono::seconds(1);
+  bool seen = false;  // a state naming this client's task
   MotionSummary summary;
   for (;;) {
     if (g_interrupted) {
@@ -83,6 +85,11 @@ int FollowTask(flsd::Client& client, const std::string& call, bool quiet) {
     summary.Add(s->msg);
     const bool ours = s->task_client_id == client.id() && s->task_call == call;
     const auto now = std::chrono::steady_clock::now();
+    seen |= ours;
+    if (!seen && now - start > std::chrono::seconds(3)) {
+      std::fprintf(stderr, "skillctl: the server accepted %s but never reported it on the state topic\n", call.c_str());
+      return kExitTaskFailed;
+    }
     if (!quiet && now - last_print >= std::chrono::milliseconds(500)) {
       PrintState(*s);
       last_print = now;

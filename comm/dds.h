@@ -7,6 +7,7 @@
 #include <dds/dds.h>
 
 #include <chrono>
+#include <utility>
 #include <stdexcept>
 #include <string>
 
@@ -107,6 +108,9 @@ class Reader {
 
   dds_entity_t get() const { return reader_.get(); }
   int matched_writers() const;
+  // Stops the data listener, waiting for a callback in progress (call before destruction
+  // begins, so no callback runs on a half-destroyed owner).
+  void RemoveListener() { dds_set_listener(reader_.get(), nullptr); }
 
  private:
   Entity reader_;
@@ -151,24 +155,38 @@ Reader<T>::Reader(const Domain& domain, const dds_topic_descriptor_t& type, cons
   Check(dds_waitset_attach(waitset_.get(), readcondition_.get(), 0), "dds_waitset_attach");
 }
 
-template <class T>
-template <class F>
-int Reader<T>::Take(F&& on_sample, int max) {
+// Takes up to `max` samples of type T from `reader` (a handle, as a data listener receives it)
+// and calls on_sample(const T&, const dds_sample_info_t&) for each one with data.
+template <class T, class F>
+int TakeSamples(dds_entity_t reader, F&& on_sample, int max) {
   constexpr int kBatch = 32;
   int total = 0;
   while (total < max) {
     void* samples[kBatch] = {nullptr};
     dds_sample_info_t infos[kBatch];
     const int want = max - total < kBatch ? max - total : kBatch;
-    const dds_return_t n = Check(dds_take(reader_.get(), samples, infos, want, want), "dds_take");
+    const dds_return_t n = Check(dds_take(reader, samples, infos, want, want), "dds_take");
+    struct Loan {  // returned even if on_sample throws
+      dds_entity_t reader;
+      void** samples;
+      dds_return_t n;
+      ~Loan() {
+        if (n > 0) dds_return_loan(reader, samples, n);
+      }
+    } loan{reader, samples, n};
     for (int i = 0; i < n; ++i) {
       if (infos[i].valid_data) on_sample(*static_cast<const T*>(samples[i]), infos[i]);
     }
-    if (n > 0) dds_return_loan(reader_.get(), samples, n);
     total += n;
     if (n < want) break;
   }
   return total;
+}
+
+template <class T>
+template <class F>
+int Reader<T>::Take(F&& on_sample, int max) {
+  return TakeSamples<T>(reader_.get(), std::forward<F>(on_sample), max);
 }
 
 template <class T>

@@ -19,9 +19,27 @@ double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).coun
 
 // Bit-identical IMU and joint readings: a real sensor's noise never repeats frame after frame.
 bool SameReadings(const LowState& a, const LowState& b) {
-  if (std::memcmp(&a.imu, &b.imu, sizeof a.imu) != 0) return false;
+  if (a.imu.quaternion != b.imu.quaternion || a.imu.gyroscope != b.imu.gyroscope ||
+      a.imu.accelerometer != b.imu.accelerometer) {
+    return false;
+  }
   for (int j = 0; j < a1::kNumJoints; ++j) {
     if (a.motors[j].q != b.motors[j].q || a.motors[j].dq != b.motors[j].dq) return false;
+  }
+  return true;
+}
+
+// A frame whose CRC passed can still carry garbage: non-finite numbers, or an attitude that is
+// not a rotation. Such a frame is counted and not used.
+bool Plausible(const LowState& frame) {
+  double norm = 0.0;
+  for (float v : frame.imu.quaternion) norm += static_cast<double>(v) * v;
+  if (!(std::abs(norm - 1.0) < 0.1)) return false;
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(frame.imu.gyroscope[k]) || !std::isfinite(frame.imu.accelerometer[k])) return false;
+  }
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    if (!std::isfinite(frame.motors[j].q) || !std::isfinite(frame.motors[j].dq)) return false;
   }
   return true;
 }
@@ -81,16 +99,25 @@ std::string HwBackend::Fault() const {
 }
 
 DriverStats HwBackend::stats() const {
-  return {sent_.load(), received_.load(), bad_length_.load(), bad_level_.load(), bad_crc_.load(), cycles_.load(), late_.load()};
+  return {sent_.load(),    received_.load(), bad_length_.load(), bad_level_.load(),
+          bad_crc_.load(), bad_values_.load(), cycles_.load(),   late_.load()};
 }
 
 // Torque-free until the server commands: the SDK's initial command (servo mode, both loops off,
-// no gains), which also makes the robot start sending state frames.
+// no gains), which also makes the robot start sending state frames. A joint whose command is not
+// finite is damped instead.
 LowCommand HwBackend::ToLowCommand(const JointCommand& c) const {
   LowCommand out;
   for (int j = 0; j < a1::kNumJoints; ++j) {
     MotorCommand& m = out.motors[j];
     m.mode = kModeServo;
+    if (!std::isfinite(c.position[j]) || !std::isfinite(c.velocity[j]) || !std::isfinite(c.kp[j]) ||
+        !std::isfinite(c.kd[j]) || !std::isfinite(c.torque[j])) {
+      m.q = kPositionStop;
+      m.dq = 0.0f;
+      m.kd = static_cast<float>(config_.damping_kd);
+      continue;
+    }
     m.q = static_cast<float>(std::clamp(c.position[j], a1::JointMin(j), a1::JointMax(j)));
     m.dq = static_cast<float>(c.velocity[j]);
     m.kp = static_cast<float>(c.kp[j]);
@@ -135,6 +162,10 @@ void HwBackend::Run() {
       if (n < 0) break;
       switch (DecodeLowState(in, static_cast<std::size_t>(n), frame)) {
         case FrameError::kNone:
+          if (!Plausible(frame)) {
+            bad_values_.fetch_add(1, std::memory_order_relaxed);
+            break;
+          }
           if (!fresh) round_trip_.Add(Seconds(Clock::now() - sent_at));
           fresh = true;
           break;
@@ -199,9 +230,9 @@ std::vector<std::string> HwBackend::Preflight() {
     return failures;
   }
   const uint64_t bad = (after.bad_crc - before.bad_crc) + (after.bad_length - before.bad_length) +
-                       (after.bad_level - before.bad_level);
+                       (after.bad_level - before.bad_level) + (after.bad_values - before.bad_values);
   if (bad > 0) {
-    std::snprintf(text, sizeof text, "%llu of %llu state frames were malformed (CRC, length or level flag)",
+    std::snprintf(text, sizeof text, "%llu of %llu state frames were malformed (CRC, length, level flag or values)",
                   static_cast<unsigned long long>(bad), static_cast<unsigned long long>(bad + received));
     failures.push_back(text);
   }

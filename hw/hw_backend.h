@@ -59,6 +59,7 @@ struct HwConfig {
 
 struct DriverStats {
   uint64_t sent = 0, received = 0, bad_length = 0, bad_level = 0, bad_crc = 0;
+  uint64_t bad_values = 0;  // CRC fine, but non-finite numbers or an attitude that is no rotation
   uint64_t cycles = 0, late_cycles = 0;  // late: started more than half a period after its time
 };
 
@@ -100,7 +101,8 @@ class HwBackend final : public Backend {
   std::atomic<int> fault_{0};
   std::atomic<int> fault_joint_{-1};
   std::atomic<double> since_valid_{0.0};
-  std::atomic<uint64_t> sent_{0}, received_{0}, bad_length_{0}, bad_level_{0}, bad_crc_{0}, cycles_{0}, late_{0};
+  std::atomic<uint64_t> sent_{0}, received_{0}, bad_length_{0}, bad_level_{0}, bad_crc_{0}, bad_values_{0};
+  std::atomic<uint64_t> cycles_{0}, late_{0};
   LatencyHistogram send_lateness_, round_trip_;
   bool realtime_ = false;
   std::thread thread_;

@@ -18,6 +18,7 @@ void StateEstimator::Reset(const Eigen::Vector3d& position) {
   x_.setZero();
   x_.head<3>() = position;
   p_ = Matrix6d::Identity() * 1e-2;
+  last_good_position_ = position;
 }
 
 void StateEstimator::Update(const LowState& frame, double dt) {
@@ -42,8 +43,8 @@ void StateEstimator::Update(const LowState& frame, double dt) {
   }
 
   // Measure with the stance feet: a still foot pins the base's velocity and height. Each foot is
-  // its own measurement, gated: a foot whose implied velocity is far outside what the filter
-  // expects is slipping (or not really in stance) and is left out.
+  // its own measurement, gated: a foot whose squared Mahalanobis distance from what the filter
+  // expects is beyond the gate is slipping (or not really in stance) and is left out.
   for (int leg = 0; leg < a1::kNumLegs; ++leg) {
     const double force = frame.foot_force[leg];
     state_.foot_force[leg] = force;
@@ -68,11 +69,14 @@ void StateEstimator::Update(const LowState& frame, double dt) {
     const Eigen::Matrix4d s = h * p_ * h.transpose() + Eigen::Matrix4d(noise.asDiagonal());
     const Eigen::Vector4d innovation = z - h * x_;
     const Eigen::Matrix4d s_inverse = s.ldlt().solve(Eigen::Matrix4d::Identity());
-    if (innovation.dot(s_inverse * innovation) > config_.slip_gate * config_.slip_gate) continue;
+    if (!(innovation.dot(s_inverse * innovation) <= config_.slip_gate)) continue;
     const Eigen::Matrix<double, 6, 4> k = p_ * h.transpose() * s_inverse;
     x_ += k * innovation;
     p_ = (Matrix6d::Identity() - k * h) * p_;
   }
+
+  if (!x_.allFinite() || !p_.allFinite()) Reset(last_good_position_);  // never stay poisoned
+  last_good_position_ = x_.head<3>();
 
   state_.time = frame.tick * 1e-6;
   state_.base_position = x_.head<3>();

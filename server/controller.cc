@@ -30,6 +30,26 @@ bool Controller::Submit(const ControlRequest& request) {
   return true;
 }
 
+void Controller::SubmitUrgent(const ControlRequest& request) {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  if (request.kind == ControlRequest::Kind::kDamp) {
+    urgent_damp_ = request;
+    have_urgent_damp_ = true;
+  } else {
+    urgent_stop_ = request;
+    have_urgent_stop_ = true;
+  }
+}
+
+bool Controller::TakeQueued(ControlRequest& request) {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  if (queue_count_ == 0) return false;
+  request = queue_[queue_head_];
+  queue_head_ = (queue_head_ + 1) % kQueueSize;
+  --queue_count_;
+  return true;
+}
+
 void Controller::Tick() {
   state_ = backend_.Read();
   ++tick_;
@@ -37,7 +57,8 @@ void Controller::Tick() {
   // Supervise first: a trip overrides whatever a request asks for in this tick.
   const std::string backend_fault = backend_.Fault();  // empty (no allocation) while healthy
   uint32_t faults = backend_fault.empty() ? 0u : kFaultBackend;
-  if (faults != 0) SetText(backend_fault_, backend_fault.c_str());
+  SetText(backend_fault_, backend_fault.c_str());
+  hazards_ = faults | SafetySupervisor::Hazards(state_, config_.safety);
   if (MotorsActive()) {
     // A robot rising from the floor is low until it has stood up.
     const bool rising = mode_ == flsd_msgs_MODE_STAND && stand_ticks_ < stand_total_ticks_;
@@ -47,17 +68,19 @@ void Controller::Tick() {
   }
   if (faults != 0 && mode_ != flsd_msgs_MODE_DAMP) EnterDamp(faults);
 
-  for (;;) {
-    ControlRequest request;
-    {
-      std::lock_guard<std::mutex> lock(queue_mutex_);
-      if (queue_count_ == 0) break;
-      request = queue_[queue_head_];
-      queue_head_ = (queue_head_ + 1) % kQueueSize;
-      --queue_count_;
-    }
-    Apply(request);
+  ControlRequest request;
+  while (TakeQueued(request)) Apply(request);
+  ControlRequest stop, damp;
+  bool have_stop = false, have_damp = false;
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    std::swap(have_stop, have_urgent_stop_);
+    std::swap(have_damp, have_urgent_damp_);
+    stop = urgent_stop_;
+    damp = urgent_damp_;
   }
+  if (have_stop) Apply(stop);
+  if (have_damp) Apply(damp);
 
   JointCommand command;
   switch (mode_) {
@@ -84,6 +107,9 @@ bool Controller::MotorsActive() const {
 void Controller::Apply(const ControlRequest& request) {
   switch (request.kind) {
     case ControlRequest::Kind::kStand:
+      // Never stiffen a robot that is on its side, out of range, or not being sensed (the
+      // request side refuses these too; this catches what changed since it looked).
+      if (hazards_ != 0) return;
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by stand");
       latched_faults_ = 0;
       fault_message_[0] = '\0';
@@ -91,9 +117,12 @@ void Controller::Apply(const ControlRequest& request) {
       pending_skill_ = -1;
       break;
     case ControlRequest::Kind::kSkill:
-      if (mode_ == flsd_msgs_MODE_DAMP) return;  // the request side refuses this; a trip raced it
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by a new skill");
       StartTask(request, "execute_skill");
+      if (mode_ == flsd_msgs_MODE_DAMP) {  // a stop latched after the request side accepted it
+        EndTask(flsd_msgs_TASK_SAFETY_STOP, "a safety stop latched before the skill could start");
+        return;
+      }
       // Every skill starts from the default pose: the state its episodes started from in training.
       EnterStand();
       pending_skill_ = request.skill;
@@ -219,6 +248,8 @@ void Controller::Publish() {
     s.faults = latched_faults_;
     s.fault_message = fault_message_;
     s.safety_trips = safety_trips_;
+    s.hazards = hazards_;
+    s.backend_fault = backend_fault_;
     s.task = task_;
   }
   status_changed_.notify_all();

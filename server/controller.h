@@ -46,6 +46,8 @@ struct ControllerStatus {
   uint32_t faults = 0;  // latched since the last stop; zero while none is latched
   FixedText fault_message{};
   uint64_t safety_trips = 0;  // ever; a client compares counts to learn of new trips
+  uint32_t hazards = 0;       // SafetySupervisor::Hazards, plus kFaultBackend: what forbids standing now
+  FixedText backend_fault{};  // the backend's account of its fault, while it has one
   TaskStatus task;
 };
 
@@ -69,6 +71,11 @@ class Controller {
   // Queues a request for the next tick. Returns false if the queue is full (a flood).
   bool Submit(const ControlRequest& request);
 
+  // For the two requests that must never wait behind a full queue or be refused: the emergency
+  // stop (kDamp) and the stop of a lapsed lease (kStop). The newest of each kind is kept, and
+  // the next tick applies them after the queue, so they override whatever came with them.
+  void SubmitUrgent(const ControlRequest& request);
+
   // One control period: read the state, supervise, apply queued requests, command the backend.
   void Tick();
 
@@ -84,6 +91,7 @@ class Controller {
   static constexpr int kQueueSize = 16;
 
   void Apply(const ControlRequest& request);
+  bool TakeQueued(ControlRequest& request);
   void EnterStand();
   void EnterDamp(uint32_t faults);
   void StartTask(const ControlRequest& request, const char* call);
@@ -105,6 +113,7 @@ class Controller {
   uint64_t tick_ = 0;
   flsd_msgs_Mode mode_ = flsd_msgs_MODE_IDLE;
   uint32_t latched_faults_ = 0;
+  uint32_t hazards_ = 0;
   FixedText fault_message_{};
   FixedText backend_fault_{};  // the backend's account of its fault, while it has one
   uint64_t safety_trips_ = 0;
@@ -126,6 +135,8 @@ class Controller {
   mutable std::mutex queue_mutex_;
   std::array<ControlRequest, kQueueSize> queue_{};
   int queue_head_ = 0, queue_count_ = 0;
+  ControlRequest urgent_damp_, urgent_stop_;
+  bool have_urgent_damp_ = false, have_urgent_stop_ = false;
   mutable std::mutex status_mutex_;
   mutable std::condition_variable status_changed_;
   ControllerStatus published_;

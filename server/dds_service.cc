@@ -57,6 +57,7 @@ void DdsService::Start() {
 }
 
 void DdsService::Stop() {
+  requests_.RemoveListener();  // waits for a callback in progress; none starts after it
   if (!running_.exchange(false)) return;
   poll_wake_.notify_all();
   if (poll_thread_.joinable()) poll_thread_.join();
@@ -65,7 +66,14 @@ void DdsService::Stop() {
 
 void DdsService::OnRequests(dds_entity_t, void* self) {
   auto* service = static_cast<DdsService*>(self);
-  if (service->running_) service->ServeRequests();
+  // Nothing may unwind into Cyclone's receive thread: it would end the process.
+  try {
+    if (service->running_) service->ServeRequests();
+  } catch (const std::exception& e) {
+    spdlog::error("serving requests failed: {}", e.what());
+  } catch (...) {
+    spdlog::error("serving requests failed");
+  }
 }
 
 void DdsService::PollLeases() {

@@ -45,9 +45,6 @@ class DdsService {
   dds::Domain domain_;
   dds::Writer<flsd_msgs_Reply> replies_;
   dds::Writer<flsd_msgs_RobotState> states_;
-  dds::DataListener listener_;
-  dds::Reader<flsd_msgs_Request> requests_;  // last: its listener may fire once it exists
-
   std::mutex poll_mutex_;
   std::condition_variable poll_wake_;
   std::thread poll_thread_, state_thread_;
@@ -55,6 +52,11 @@ class DdsService {
   std::atomic<uint64_t> dropped_{0};
   std::mutex holder_mutex_;
   std::string holder_;  // the lease holder, for telemetry
+
+  // Last, so that they go first: the listener may fire as soon as the reader exists, and uses
+  // every member above. Stop() removes it before anything is torn down.
+  dds::DataListener listener_;
+  dds::Reader<flsd_msgs_Request> requests_;
 };
 
 }  // namespace flsd

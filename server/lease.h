@@ -1,7 +1,7 @@
 #pragma once
-// The control lease: one client at a time may move the robot. The holder keeps it by sending
-// requests (any call renews it); after `timeout` seconds of silence it lapses. Time is passed in,
-// so tests drive it without sleeping.
+// The control lease: one client at a time may move the robot. The holder keeps it with motion
+// requests and renew_control (the client's heartbeat); after `timeout` seconds without either it
+// lapses. Time is passed in, so tests drive it without sleeping.
 
 #include <string>
 

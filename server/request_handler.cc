@@ -71,7 +71,7 @@ void RequestHandler::Poll(double now) {
     SetText(stop.reason, ("control lease of " + holder + " lapsed after " + Seconds(lease_.timeout()) +
                           " without a request; standing")
                              .c_str());
-    controller_.Submit(stop);
+    controller_.SubmitUrgent(stop);
   }
 }
 
@@ -146,9 +146,9 @@ ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const st
     ControlRequest damp;
     damp.kind = ControlRequest::Kind::kDamp;
     SetText(damp.reason, ("emergency stop from " + client_id).c_str());
-    if (!Submit(damp, client_id, request.header.request_id)) {
-      return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; damp again");
-    }
+    SetText(damp.client_id, client_id.c_str());
+    damp.request_id = request.header.request_id;
+    controller_.SubmitUrgent(damp);
     return Reply(flsd_msgs_STATUS_OK, "damping; call stand to recover");
   }
   static const char* const kMotionCalls[] = {"execute_skill", "track_velocity", "navigate", "stop", "stand", "reset"};
@@ -211,16 +211,12 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
   if (call == "reset" && !controller_.backend_can_reset()) {
     return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "this backend cannot reset the robot; stand it up by hand");
   }
-  if (call == "stand" && latched) {
-    // Standing clears a latched stop, but only once the robot is upright again.
-    SafetySupervisor probe(config_.safety);
-    const uint32_t still = probe.Check(status.state, 0.0, false) & kFaultTilt;
-    if (still != 0) {
-      char text[192];
-      DescribeFaults(still, status.state, config_.safety, text, sizeof text);
-      return Reply(flsd_msgs_STATUS_SAFETY_STOP, std::string("cannot stand: ") + text +
-                                                     (controller_.backend_can_reset() ? "; call reset" : "; put the robot upright"));
-    }
+  if (call == "stand" && status.hazards != 0) {
+    // Standing clears a latched stop, but only once the robot is upright, in range and sensed.
+    char text[192];
+    DescribeFaults(status.hazards, status.state, config_.safety, text, sizeof text, status.backend_fault.data());
+    return Reply(flsd_msgs_STATUS_SAFETY_STOP, std::string("cannot stand: ") + text +
+                                                   (controller_.backend_can_reset() ? "; call reset" : "; put the robot upright"));
   }
   control.kind = call == "stand" ? ControlRequest::Kind::kStand
                  : call == "stop" ? ControlRequest::Kind::kStop

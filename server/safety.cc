@@ -11,26 +11,32 @@ double SafetySupervisor::Tilt(const RobotState& state) {
   return std::acos(std::clamp(cos_tilt, -1.0, 1.0));
 }
 
-uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_height) {
+// Every limit is written so that a NaN breaks it: !(x <= limit) is true for NaN, x > limit is not.
+uint32_t SafetySupervisor::Hazards(const RobotState& state, const SafetyConfig& config) {
   uint32_t faults = 0;
-  if (Tilt(state) > config_.max_tilt) faults |= kFaultTilt;
-  if (check_height && config_.min_base_height > 0.0 && state.base_position.z() < config_.min_base_height) {
+  if (!(Tilt(state) <= config.max_tilt)) faults |= kFaultTilt;
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    const double q = state.joint_position[j];
+    if (!(q >= a1::JointMin(j) - config.joint_range_margin && q <= a1::JointMax(j) + config.joint_range_margin)) {
+      faults |= kFaultJointRange;
+    }
+    if (!(std::abs(state.joint_velocity[j]) <= config.max_joint_velocity)) faults |= kFaultJointVelocity;
+  }
+  return faults;
+}
+
+uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_height) {
+  uint32_t faults = Hazards(state, config_);
+  if (check_height && config_.min_base_height > 0.0 && !(state.base_position.z() >= config_.min_base_height)) {
     faults |= kFaultLowBase;
   }
   for (int j = 0; j < a1::kNumJoints; ++j) {
-    const double q = state.joint_position[j];
-    if (!std::isfinite(q) || q < a1::JointMin(j) - config_.joint_range_margin ||
-        q > a1::JointMax(j) + config_.joint_range_margin) {
-      faults |= kFaultJointRange;
-    }
-    const double qd = state.joint_velocity[j];
-    if (!std::isfinite(qd) || std::abs(qd) > config_.max_joint_velocity) faults |= kFaultJointVelocity;
     const bool saturated = std::abs(state.joint_torque[j]) >= a1::kTorqueLimit - 1e-6;
     saturated_time_[j] = saturated ? saturated_time_[j] + dt : 0.0;
     // The tolerance keeps a whole number of ticks that sums to the limit from tripping early.
     if (saturated_time_[j] > config_.max_torque_saturation + 1e-9) faults |= kFaultTorque;
   }
-  over_power_time_ = Power(state) > config_.max_power ? over_power_time_ + dt : 0.0;
+  over_power_time_ = !(Power(state) <= config_.max_power) ? over_power_time_ + dt : 0.0;
   if (over_power_time_ > config_.max_power_time + 1e-9) faults |= kFaultPower;
   return faults;
 }

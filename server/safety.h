@@ -46,8 +46,12 @@ class SafetySupervisor {
   // Clamps joint targets into the A1's joint ranges.
   static void ClampTargets(a1::JointArray<double>& targets);
 
-  // The tilt from upright, rad.
+  // The tilt from upright, rad (NaN for a non-finite attitude).
   static double Tilt(const RobotState& state);
+
+  // What makes it unsafe to put stiffness on the joints at all, whatever the mode: a robot on
+  // its side, a joint out of range, a non-finite reading. Stateless.
+  static uint32_t Hazards(const RobotState& state, const SafetyConfig& config);
 
   const SafetyConfig& config() const { return config_; }
 

@@ -103,3 +103,22 @@ TEST(StateEstimator, AStandingRobotIsEstimatedAtRest) {
 
 }  // namespace
 }  // namespace flsd::hw
+
+namespace flsd::hw {
+namespace {
+
+TEST(StateEstimator, ANonFiniteReadingDoesNotPoisonTheEstimate) {
+  StateEstimator estimator(LegKinematics::FromUrdf("robot/a1/a1.urdf"), EstimatorConfig{});
+  estimator.Reset(Eigen::Vector3d(1.0, 2.0, 0.3));
+  LowState frame;
+  frame.imu.accelerometer = {0.0f, NAN, 9.81f};
+  estimator.Update(frame, 0.002);
+  frame.imu.accelerometer = {0.0f, 0.0f, 9.81f};
+  estimator.Update(frame, 0.002);
+  EXPECT_TRUE(estimator.state().base_position.allFinite());
+  EXPECT_TRUE(estimator.state().base_linear_velocity.allFinite());
+  EXPECT_NEAR(estimator.state().base_position.x(), 1.0, 1e-3);
+}
+
+}  // namespace
+}  // namespace flsd::hw

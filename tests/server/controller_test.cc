@@ -94,6 +94,41 @@ TEST_F(ControllerTest, DampLatchesUntilStandAndIgnoresSkillsMeanwhile) {
   EXPECT_EQ(controller_.status().faults, 0u);
 }
 
+TEST_F(ControllerTest, ASkillThatRacesADampEndsAsASafetyStopInsteadOfVanishing) {
+  StandUp();
+  controller_.SubmitUrgent(Request(Kind::kDamp));
+  controller_.Tick();
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 5.0)));
+  controller_.Tick();
+  const ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SAFETY_STOP);
+  EXPECT_EQ(s.task.request_id, 42u);
+  EXPECT_THAT(s.task.message.data(), HasSubstr("latched before the skill could start"));
+}
+
+TEST_F(ControllerTest, UrgentStopsOverrideAFullQueue) {
+  StandUp();
+  while (controller_.Submit(Request(Kind::kStand))) {
+  }
+  controller_.SubmitUrgent(Request(Kind::kDamp));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);  // applied after the queue's stands
+}
+
+TEST_F(ControllerTest, StandIsIgnoredWhileTheBackendIsFaulted) {
+  StandUp();
+  backend_.env().data().qvel[0] = NAN;
+  controller_.Tick();
+  controller_.Tick();
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_NE(controller_.status().hazards & kFaultBackend, 0u);
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kStand)));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_NE(controller_.status().faults, 0u);
+}
+
 TEST_F(ControllerTest, AFallDuringASkillTripsToDampingAndEndsTheTask) {
   StandUp();
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 5.0)));

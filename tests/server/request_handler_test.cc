@@ -92,6 +92,14 @@ TEST_F(RequestHandlerTest, AnyClientMayDamp) {
   EXPECT_THAT(skill.message, HasSubstr("call stand first"));
 }
 
+TEST_F(RequestHandlerTest, DampGetsThroughAQueueFloodedByTheController) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  for (int i = 0; i < 40; ++i) Send("a", "stand", 0.001 * i);  // more than the queue holds
+  EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+}
+
 TEST_F(RequestHandlerTest, BadArgumentsAreRefusedWithTheReason) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
   const int k = controller_.library().num_skills();

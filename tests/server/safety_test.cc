@@ -44,6 +44,20 @@ TEST(SafetySupervisor, TiltTripsJustPastTheLimit) {
   EXPECT_EQ(supervisor.Check(Rolled(1.01), 0.02), kFaultTilt);
 }
 
+TEST(SafetySupervisor, NonFiniteReadingsBreakEveryLimit) {
+  SafetySupervisor supervisor{SafetyConfig{}};
+  RobotState s = Standing();
+  s.base_orientation.coeffs().setConstant(NAN);
+  EXPECT_NE(supervisor.Check(s, 0.02) & kFaultTilt, 0u);
+  s = Standing();
+  s.base_position.z() = NAN;
+  EXPECT_EQ(supervisor.Check(s, 0.02), kFaultLowBase);
+  s = Standing();
+  s.joint_velocity[3] = NAN;
+  EXPECT_EQ(supervisor.Check(s, 0.02), kFaultJointVelocity);
+  EXPECT_EQ(SafetySupervisor::Hazards(s, SafetyConfig{}), kFaultJointVelocity);
+}
+
 TEST(SafetySupervisor, LowBaseTripsUnlessHeightIsNotChecked) {
   SafetyConfig config;
   config.min_base_height = 0.12;

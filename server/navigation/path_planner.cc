@@ -5,11 +5,11 @@
 #include <ompl/geometric/SimpleSetup.h>
 #include <ompl/geometric/planners/rrt/InformedRRTstar.h>
 #include <ompl/util/Console.h>
-#include <ompl/util/RandomNumbers.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace flsd {
 namespace {
@@ -63,7 +63,6 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
   }
 
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
-  ompl::RNG::setSeed(options.seed);
   auto space = std::make_shared<ob::RealVectorStateSpace>(2);
   ob::RealVectorBounds bounds(2);
   bounds.setLow(0, map.x_min);
@@ -84,8 +83,13 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
   to[0] = goal.x();
   to[1] = goal.y();
   setup.setStartAndGoalStates(from, to);
-  setup.getProblemDefinition()->setOptimizationObjective(
-      std::make_shared<ob::PathLengthOptimizationObjective>(setup.getSpaceInformation()));
+  auto objective = std::make_shared<ob::PathLengthOptimizationObjective>(setup.getSpaceInformation());
+  // The planner stops once a path is within 1 % of the straight line, which no path can beat (an
+  // open room then takes a millisecond, not the whole budget); an infinite threshold is met by
+  // any path, so the planner stops at its first one.
+  objective->setCostThreshold(ob::Cost(options.first_solution_only ? std::numeric_limits<double>::infinity()
+                                                                   : 1.01 * (goal - start).norm()));
+  setup.getProblemDefinition()->setOptimizationObjective(objective);
   setup.setPlanner(std::make_shared<og::InformedRRTstar>(setup.getSpaceInformation()));
 
   const ob::PlannerStatus status = setup.solve(options.time_limit);

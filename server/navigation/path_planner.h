@@ -16,7 +16,7 @@ struct PlannerOptions {
   double time_limit = 0.5;        // s of planning
   double waypoint_spacing = 0.5;  // m, at most, between waypoints
   double collision_resolution = 0.02;  // m along a segment between checks
-  unsigned seed = 1;              // OMPL's sampler, for reproducible paths
+  bool first_solution_only = false;  // stop at the first path found instead of improving it
 };
 
 struct PlannedPath {

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "bench/hw_bench.h"
+#include "bench/plan_bench.h"
 #include "bench/policy_bench.h"
 #include "bench/sim_bench.h"
 #include "bench/train_bench.h"
@@ -87,6 +88,11 @@ int main(int argc, char** argv) {
   hw_bench_cmd->add_option("--seconds", hw_bench.seconds, "Timed seconds")->check(CLI::Range(0.5, 3600.0));
   hw_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
 
+  flsd::PlanBenchOptions plan_bench;
+  CLI::App* plan_bench_cmd = bench_cmd->add_subcommand("plan", "OMPL planning time and path length on the shipped maps");
+  plan_bench_cmd->add_option("--trials", plan_bench.trials, "Plans per map")->check(CLI::Range(1, 10000));
+  plan_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*demo_cmd) return flsd::RunSimDemo(demo);
@@ -119,6 +125,10 @@ int main(int argc, char** argv) {
     }
     if (*sim_cmd) {
       std::printf("%s\n", flsd::RunSimBenchmark(sim).dump(2).c_str());
+      return 0;
+    }
+    if (*plan_bench_cmd) {
+      std::printf("%s\n", flsd::RunPlanBenchmark(plan_bench).dump(2).c_str());
       return 0;
     }
     if (*hw_bench_cmd) {

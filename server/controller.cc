@@ -123,6 +123,12 @@ void Controller::Apply(const ControlRequest& request) {
         EndTask(flsd_msgs_TASK_SAFETY_STOP, "a safety stop latched before the skill could start");
         return;
       }
+      if (hazards_ != 0) {  // as for stand: never stiffen a robot that is down or unsensed
+        char why[192];
+        DescribeFaults(hazards_, state_, config_.safety, why, sizeof why, backend_fault_.data());
+        EndTask(flsd_msgs_TASK_SAFETY_STOP, why);
+        return;
+      }
       // Every skill starts from the default pose: the state its episodes started from in training.
       EnterStand();
       pending_skill_ = request.skill;

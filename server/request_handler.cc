@@ -188,6 +188,11 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
       return Reply(flsd_msgs_STATUS_SAFETY_STOP,
                    std::string("a safety stop is latched (") + status.fault_message.data() + "); call stand first");
     }
+    if (status.hazards != 0) {
+      char text[192];
+      DescribeFaults(status.hazards, status.state, config_.safety, text, sizeof text, status.backend_fault.data());
+      return Reply(flsd_msgs_STATUS_SAFETY_STOP, std::string("cannot start a skill: ") + text);
+    }
     control.kind = ControlRequest::Kind::kSkill;
     control.skill = k;
     control.duration = request.duration;

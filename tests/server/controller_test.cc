@@ -107,6 +107,21 @@ TEST_F(ControllerTest, ASkillThatRacesADampEndsAsASafetyStopInsteadOfVanishing) 
   EXPECT_THAT(s.task.message.data(), HasSubstr("latched before the skill could start"));
 }
 
+TEST_F(ControllerTest, ASkillIsNotStartedOnARobotLyingOnItsSide) {
+  mjData& d = backend_.env().data();
+  const int q = backend_.env().index().root_qpos;
+  d.qpos[q + 3] = std::cos(0.8);  // rolled 1.6 rad, idle
+  d.qpos[q + 4] = std::sin(0.8);
+  backend_.env().SyncState();
+  controller_.Tick();
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 2.0)));
+  controller_.Tick();
+  const ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_IDLE);
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SAFETY_STOP);
+  EXPECT_THAT(s.task.message.data(), HasSubstr("tilt"));
+}
+
 TEST_F(ControllerTest, UrgentStopsOverrideAFullQueue) {
   StandUp();
   while (controller_.Submit(Request(Kind::kStand))) {

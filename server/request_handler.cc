@@ -184,6 +184,13 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
                                                           std::to_string(controller_.library().num_skills()) + ")");
     }
     if (!check_duration(why)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+    const SkillDescriptor& skill = controller_.library().skills()[k];
+    if (skill.fell && skill.survival_steps < config_.safety.min_skill_survival) {
+      return Reply(flsd_msgs_STATUS_NOT_AVAILABLE,
+                   "skill " + std::to_string(k) + " fell after " + std::to_string(skill.survival_steps) +
+                       " steps in the library's evaluation (fewer than safety.min_skill_survival = " +
+                       std::to_string(config_.safety.min_skill_survival) + "); it is not run");
+    }
     if (latched) {
       return Reply(flsd_msgs_STATUS_SAFETY_STOP,
                    std::string("a safety stop is latched (") + status.fault_message.data() + "); call stand first");

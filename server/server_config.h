@@ -20,6 +20,9 @@ struct SafetyConfig {
   double max_power = 1000.0;       // W, sum of |tau qdot| (the SDK's PowerProtect at its level 10)
   double max_power_time = 0.1;     // s above max_power before a trip
   double damping_kd = 1.0;             // N m s / rad of the damped (safe) command
+  // Skills that fell sooner than this in the library's own evaluation (steps of 20 ms) are
+  // refused: an unsupervised skill can be one that throws the robot down. 0 allows all.
+  int min_skill_survival = 500;
   template <class V>
   void Visit(V& v) {
     v("max_tilt", max_tilt, Bounds<double>{0.1, 3.2});
@@ -30,6 +33,7 @@ struct SafetyConfig {
     v("max_power", max_power, Bounds<double>{10.0, 10000.0});
     v("max_power_time", max_power_time, Bounds<double>{0.0, 10.0});
     v("damping_kd", damping_kd, Bounds<double>{0.0, 10.0});
+    v("min_skill_survival", min_skill_survival, Bounds<int>{0, 1000000});
   }
 };
 

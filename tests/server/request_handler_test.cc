@@ -120,6 +120,31 @@ TEST_F(RequestHandlerTest, BadArgumentsAreRefusedWithTheReason) {
             flsd_msgs_STATUS_INVALID_ARGUMENT);
 }
 
+TEST(RequestHandlerSkills, SkillsThatFellInEvaluationAreRefused) {
+  // A library whose skill 1 fell after 9 steps in its evaluation.
+  SkillLibrary library = testutil::ShippedLibrary();
+  ASSERT_GT(library.num_skills(), 1);
+  ServerConfig config;
+  SimBackend backend(config.sim);
+  Controller controller(backend, library, config);
+  RequestHandler handler(controller, config);
+  auto call = [&](uint64_t id, const char* name, int skill) {
+    TestRequest r("a", id, name);
+    r.msg.skill = skill;
+    r.msg.duration = 1.0;
+    return *handler.Handle(r.msg, 0.0, 0);
+  };
+  ASSERT_EQ(call(1, "acquire_control", 0).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(call(2, "execute_skill", 1).status, flsd_msgs_STATUS_OK);  // survived 1000 steps
+  // `library` is this test's own copy, so editing its descriptor in place is fine.
+  auto& fallen = const_cast<SkillDescriptor&>(library.skills()[1]);
+  fallen.survival_steps = 9;
+  fallen.fell = true;
+  const ReplyContent r = call(3, "execute_skill", 1);
+  EXPECT_EQ(r.status, flsd_msgs_STATUS_NOT_AVAILABLE);
+  EXPECT_THAT(r.message, HasSubstr("skill 1 fell after 9 steps in the library's evaluation"));
+}
+
 TEST_F(RequestHandlerTest, CallsThatNeedTheSelectorSaySoUntilItExists) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
   const ReplyContent r = Send("a", "track_velocity", 0.0, [](flsd_msgs_Request& m) { m.duration = 1.0; });

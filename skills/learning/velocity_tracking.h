@@ -1,0 +1,95 @@
+#pragma once
+// legged_gym's velocity-tracking task, the reward that the skill selector (issue 6) and the
+// from-scratch baseline of the paper's Fig. 8 are trained on: velocity commands drawn from fixed
+// ranges and resampled, and the reward terms and scales of legged_gym's A1 configuration
+// (../shared/facts/a1_and_learning_facts.md, "Rewards" and "Commands"). Each term is scaled by
+// dt and the total is clipped at zero (only_positive_rewards), as in legged_gym.
+
+#include <Eigen/Core>
+
+#include <array>
+
+#include "core/config.h"
+#include "core/rng.h"
+#include "robot/robot_state.h"
+
+namespace flsd {
+
+struct VelocityCommandConfig {
+  Interval vx{-1.0, 1.0};  // m/s, body frame
+  Interval vy{-1.0, 1.0};  // m/s
+  Interval wz{-1.0, 1.0};  // rad/s
+  double resampling_s = 10.0;
+  double min_planar_speed = 0.2;  // commands slower than this in xy are zeroed
+  template <class V>
+  void Visit(V& v) {
+    v("vx", vx, Bounds<double>{-5.0, 5.0});
+    v("vy", vy, Bounds<double>{-5.0, 5.0});
+    v("wz", wz, Bounds<double>{-10.0, 10.0});
+    v("resampling_s", resampling_s, Bounds<double>{0.02, 3600.0});
+    v("min_planar_speed", min_planar_speed, Bounds<double>{0.0, 5.0});
+  }
+};
+
+// (vx, vy, wz), each uniform in its range, xy zeroed below min_planar_speed.
+Eigen::Vector3d SampleVelocityCommand(Rng& rng, const VelocityCommandConfig& config);
+
+struct VelocityRewardConfig {
+  double tracking_sigma = 0.25;
+  double tracking_lin_vel = 1.0;
+  double tracking_ang_vel = 0.5;
+  double lin_vel_z = -2.0;
+  double ang_vel_xy = -0.05;
+  double orientation = 0.0;
+  double torques = -2e-4;  // the A1's
+  double dof_acc = -2.5e-7;
+  double feet_air_time = 1.0;
+  double collision = -1.0;
+  double action_rate = -0.01;
+  double dof_pos_limits = -10.0;  // the A1's
+  double soft_dof_pos_limit = 0.9;
+  double feet_air_time_target = 0.5;  // s
+  template <class V>
+  void Visit(V& v) {
+    v("tracking_sigma", tracking_sigma, Bounds<double>{1e-4, 100.0});
+    for (auto [name, value] : {std::pair{"tracking_lin_vel", &tracking_lin_vel}, {"tracking_ang_vel", &tracking_ang_vel},
+                               {"lin_vel_z", &lin_vel_z}, {"ang_vel_xy", &ang_vel_xy}, {"orientation", &orientation},
+                               {"torques", &torques}, {"dof_acc", &dof_acc}, {"feet_air_time", &feet_air_time},
+                               {"collision", &collision}, {"action_rate", &action_rate},
+                               {"dof_pos_limits", &dof_pos_limits}}) {
+      v(name, *value, Bounds<double>{-1e6, 1e6});
+    }
+    v("soft_dof_pos_limit", soft_dof_pos_limit, Bounds<double>{0.1, 1.0});
+    v("feet_air_time_target", feet_air_time_target, Bounds<double>{0.0, 5.0});
+  }
+};
+
+// The terms of one control step, unscaled by dt (for logging), and their scaled, clipped total.
+struct VelocityRewardTerms {
+  double tracking_lin_vel = 0, tracking_ang_vel = 0, lin_vel_z = 0, ang_vel_xy = 0, orientation = 0, torques = 0,
+         dof_acc = 0, feet_air_time = 0, collision = 0, action_rate = 0, dof_pos_limits = 0;
+  double total = 0;  // sum of scale * term * dt, clipped at 0
+};
+
+// The reward of one environment; it carries what the terms need from the previous step.
+class VelocityTrackingReward {
+ public:
+  explicit VelocityTrackingReward(const VelocityRewardConfig& config) : config_(config) {}
+
+  // Starts an episode at `state`.
+  void Reset(const RobotState& state);
+
+  // The reward for the step that ended in `state`, under `command` (vx, vy, wz), with joint
+  // action `action` (12), and whether a calf or thigh touched the ground (a collision).
+  VelocityRewardTerms Step(const RobotState& state, const Eigen::Vector3d& command, const float* action,
+                           bool collision);
+
+ private:
+  VelocityRewardConfig config_;
+  a1::JointArray<double> previous_joint_velocity_{};
+  a1::JointArray<float> previous_action_{};
+  std::array<double, a1::kNumLegs> air_time_{};
+  std::array<bool, a1::kNumLegs> previous_contact_{};
+};
+
+}  // namespace flsd

@@ -163,6 +163,19 @@ Termination Env::Advance(const JointCommand& command, int substeps) {
   return CheckTermination();
 }
 
+double Env::StanceFootSpeed() const {
+  double sum = 0.0;
+  int feet = 0;
+  for (int leg = 0; leg < a1::kNumLegs; ++leg) {
+    if (!state_.foot_contact[leg]) continue;
+    mjtNum velocity[6];  // angular, then linear, in the world frame
+    mj_objectVelocity(model_.get(), data_.get(), mjOBJ_GEOM, index_.foot_geom[leg], velocity, 0);
+    sum += std::hypot(velocity[3], velocity[4]);
+    ++feet;
+  }
+  return feet > 0 ? sum / feet : 0.0;
+}
+
 void Env::SyncState() {
   mj_forward(model_.get(), data_.get());
   ReadState();

@@ -63,6 +63,10 @@ class Env {
   int episode_step() const { return episode_step_; }
   // True when a calf (not the foot) touched the floor during the last step: a knee strike.
   bool calf_contact() const { return calf_contact_; }
+  // The mean horizontal speed (m/s, world frame) of the feet now in contact with the floor, 0
+  // when none is: how much the stance feet slide. A sim-only measure (no robot senses it),
+  // computed on demand for evaluation.
+  double StanceFootSpeed() const;
   const EnvRandomization& randomization() const { return randomization_; }
   const EnvConfig& config() const { return config_; }
   const mjModel& model() const { return *model_; }

@@ -12,8 +12,10 @@
 namespace flsd {
 namespace {
 
-TrajectoryPoint PointOf(const RobotState& s) {
+TrajectoryPoint PointOf(const Env& env) {
+  const RobotState& s = env.state();
   TrajectoryPoint p;
+  p.stance_foot_speed = env.StanceFootSpeed();
   for (int k = 0; k < 3; ++k) {
     p.linear_velocity[k] = s.base_linear_velocity[k];
     p.angular_velocity[k] = s.base_angular_velocity[k];
@@ -73,7 +75,7 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
       if (!running[k]) continue;
       const Termination ending = vec.termination()[k];
       // A failed state is not part of the skill (and the env has already been reset).
-      if (ending == Termination::kNone) eval.trajectories[k].points.push_back(PointOf(vec.env(k).state()));
+      if (ending == Termination::kNone) eval.trajectories[k].points.push_back(PointOf(vec.env(k)));
       if (ending != Termination::kNone) {
         running[k] = false;
         eval.trajectories[k].fell = IsFailure(ending);
@@ -110,6 +112,7 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
                       {"mean_base_height", s.mean_base_height},
                       {"gait_frequency_hz", s.gait_frequency_hz},
                       {"high_frequency_ratio", s.high_frequency_ratio},
+                      {"mean_stance_foot_speed", s.mean_stance_foot_speed},
                       {"displacement", Array(s.displacement.data(), 2)}});
   }
   return {
@@ -135,13 +138,14 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
 
 std::string SkillSummaryCsv(const Evaluation& e) {
   std::ostringstream out;
-  out << "skill,survival_steps,fell,vx,vy,vz,wx,wy,wz,base_height,gait_frequency_hz,high_frequency_ratio,dx,dy\n";
+  out << "skill,survival_steps,fell,vx,vy,vz,wx,wy,wz,base_height,gait_frequency_hz,high_frequency_ratio,"
+         "stance_foot_speed,dx,dy\n";
   for (const SkillSummary& s : e.skills) {
     out << s.skill << ',' << s.survival_steps << ',' << s.fell;
     for (double v : s.mean_linear_velocity) out << ',' << v;
     for (double v : s.mean_angular_velocity) out << ',' << v;
     out << ',' << s.mean_base_height << ',' << s.gait_frequency_hz << ',' << s.high_frequency_ratio << ','
-        << s.displacement[0] << ',' << s.displacement[1] << '\n';
+        << s.mean_stance_foot_speed << ',' << s.displacement[0] << ',' << s.displacement[1] << '\n';
   }
   return out.str();
 }

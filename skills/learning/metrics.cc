@@ -160,6 +160,7 @@ SkillSummary SummarizeSkill(const SkillTrajectory& s, double rate_hz) {
       r.mean_angular_velocity[k] += p.angular_velocity[k];
     }
     r.mean_base_height += p.base_height;
+    r.mean_stance_foot_speed += p.stance_foot_speed;
   }
   const double n = static_cast<double>(s.points.size());
   for (int k = 0; k < 3; ++k) {
@@ -167,6 +168,7 @@ SkillSummary SummarizeSkill(const SkillTrajectory& s, double rate_hz) {
     r.mean_angular_velocity[k] /= n;
   }
   r.mean_base_height /= n;
+  r.mean_stance_foot_speed /= n;
   r.gait_frequency_hz = GaitFrequency(s, rate_hz);
   r.high_frequency_ratio = HighFrequencyPowerRatio({s}, rate_hz).pooled_ratio;
   r.displacement = {s.points.back().position[0] - s.points.front().position[0],

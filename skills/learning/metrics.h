@@ -28,6 +28,7 @@ struct TrajectoryPoint {
   std::array<double, 2> position;          // world x, y, m
   a1::JointArray<double> joint_position;   // rad
   a1::JointArray<double> joint_velocity;   // rad/s
+  double stance_foot_speed = 0.0;          // m/s, mean over the feet in contact (sim only)
 };
 
 struct SkillTrajectory {
@@ -89,6 +90,7 @@ struct SkillSummary {
   double mean_base_height = 0.0;
   double gait_frequency_hz = 0.0;
   double high_frequency_ratio = 0.0;
+  double mean_stance_foot_speed = 0.0;  // m/s: how much the feet slide while they bear weight
   std::array<double, 2> displacement{};  // world x, y, m
 };
 SkillSummary SummarizeSkill(const SkillTrajectory& skill, double rate_hz);

@@ -162,6 +162,19 @@ TEST(Env, ZeroActionStandsOnFourFeet) {
   EXPECT_NEAR(TotalFootForce(s), a1::kTotalMass * kGravity, 0.1 * a1::kTotalMass * kGravity);
 }
 
+TEST(Env, StanceFootSpeedIsZeroStandingAndTheBaseSpeedWhenTheWholeRobotSlides) {
+  Env env(SceneModel(), DeterministicConfig(), 1);
+  ASSERT_NO_FATAL_FAILURE(StandStill(env, 100));
+  EXPECT_LT(env.StanceFootSpeed(), 0.01);
+  // Every body moving at (0.6, 0.8, 0) m/s with no rotation: each foot slides at 1 m/s.
+  mjData& d = env.data();
+  for (int i = 0; i < env.model().nv; ++i) d.qvel[i] = 0.0;
+  d.qvel[env.index().root_qvel + 0] = 0.6;
+  d.qvel[env.index().root_qvel + 1] = 0.8;
+  env.SyncState();
+  EXPECT_NEAR(env.StanceFootSpeed(), 1.0, 1e-9);
+}
+
 TEST(Env, FootContactIsReportedPerLeg) {
   Env env(SceneModel(), DeterministicConfig(), 1);
   ASSERT_NO_FATAL_FAILURE(StandStill(env, 100));

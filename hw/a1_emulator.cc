@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <random>
 
@@ -140,15 +141,34 @@ LowState A1Emulator::MakeState(Rng& rng) {
 
 void A1Emulator::ServeCommands() {
   Rng rng(StreamSeed(config_.seed, 0));
-  uint8_t in[2048], out[kLowStateSize];
+  struct Pending {  // a state frame held back by the late-frame fault
+    Clock::time_point due;
+    std::array<uint8_t, kLowStateSize> frame;
+    sockaddr_in to;
+  };
+  std::deque<Pending> pending;
+  uint8_t in[2048];
   while (running_) {
+    // Send what has come due, then wait for a command no longer than until the next is due.
+    while (!pending.empty() && pending.front().due <= Clock::now()) {
+      if (socket_.SendTo(pending.front().frame.data(), kLowStateSize, pending.front().to)) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++stats_.states_sent;
+      }
+      pending.pop_front();
+    }
+    auto wait = std::chrono::microseconds(10000);
+    if (!pending.empty()) {
+      wait = std::min(wait, std::chrono::duration_cast<std::chrono::microseconds>(pending.front().due - Clock::now()));
+    }
     sockaddr_in from{};
-    const int n = socket_.Receive(in, sizeof in, std::chrono::milliseconds(10), &from);
+    const int n = socket_.Receive(in, sizeof in, std::max(wait, std::chrono::microseconds(0)), &from);
     if (n < 0) continue;
-    LowCommand command;
+    Pending reply{Clock::now(), {}, from};
     EmulatorFaults faults;
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      LowCommand command;
       if (DecodeLowCommand(in, static_cast<std::size_t>(n), command) != FrameError::kNone) {
         ++stats_.bad_commands;
         continue;
@@ -157,15 +177,13 @@ void A1Emulator::ServeCommands() {
       command_ = command;
       have_command_ = true;
       faults = faults_;
-      EncodeLowState(MakeState(rng), out);
+      EncodeLowState(MakeState(rng), reply.frame.data());
     }
     if (faults.silent || Uniform(rng, 0.0, 1.0) < faults.drop_fraction) continue;
-    if (Uniform(rng, 0.0, 1.0) < faults.corrupt_fraction) out[100] ^= 0x5A;
-    if (faults.late_ms > 0.0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(faults.late_ms));
-    if (socket_.SendTo(out, sizeof out, from)) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      ++stats_.states_sent;
-    }
+    if (Uniform(rng, 0.0, 1.0) < faults.corrupt_fraction) reply.frame[100] ^= 0x5A;
+    // Late frames are delayed, each by the same time; the robot keeps taking commands meanwhile.
+    reply.due += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(faults.late_ms));
+    pending.push_back(reply);
   }
 }
 

@@ -39,6 +39,13 @@ void BuildPolicyObservation(const float* motion_obs, const float* previous_actio
   onehot[skill] = 1.0f;
 }
 
+void BuildTaskObservation(const float* motion_obs, const double* command, float* out) {
+  std::copy(motion_obs, motion_obs + kMotionObsSize, out);
+  out[kMotionObsSize + 0] = static_cast<float>(Scale(0) * command[0]);
+  out[kMotionObsSize + 1] = static_cast<float>(Scale(0) * command[1]);
+  out[kMotionObsSize + 2] = static_cast<float>(Scale(1) * command[2]);
+}
+
 a1::JointArray<double> JointTargetsFromAction(const float* action) {
   a1::JointArray<double> target;
   for (int j = 0; j < a1::kNumJoints; ++j) {

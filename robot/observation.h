@@ -9,6 +9,9 @@
 //   [9, 21)  joint angle - default pose            x 1.0   (rad)
 //   [21, 33) joint velocity                        x 0.05  (rad/s)
 // Policy observation o^p = [o^m (33), previous action (12), one-hot skill (N_k)].
+// Task observation o^c = [o^m (33), velocity command (vx, vy, wz)]: what the skill selector and
+// the from-scratch velocity policy see; the command is scaled as o^m scales the base velocities
+// (legged_gym's commands_scale).
 
 #include <array>
 
@@ -44,6 +47,12 @@ inline constexpr int PolicyObservationSize(int num_skills) {
 // in [0, num_skills).
 void BuildPolicyObservation(const float* motion_obs, const float* previous_action, int skill,
                             int num_skills, float* out);
+
+inline constexpr int kCommandSize = 3;
+inline constexpr int kTaskObsSize = kMotionObsSize + kCommandSize;
+
+// Writes o^c into out[0, kTaskObsSize). command: (vx, vy) m/s and wz rad/s, body frame.
+void BuildTaskObservation(const float* motion_obs, const double* command, float* out);
 
 // Joint targets q* = q_default + kActionScale * clip(a) for a policy action.
 a1::JointArray<double> JointTargetsFromAction(const float* action);

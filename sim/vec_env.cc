@@ -16,6 +16,8 @@ VecEnv::VecEnv(const EnvConfig& config, int num_envs, uint64_t seed, int num_thr
   terminal_position_.assign(num_envs * 3, 0.0f);
   foot_contact_.assign(num_envs * a1::kNumLegs, 0);
   termination_.assign(num_envs, Termination::kNone);
+  stepped_calf_contact_.assign(num_envs, 0);
+  terminal_state_.resize(num_envs);
   for (int i = 0; i < num_envs; ++i) WriteRow(i, &motion_obs_[i * kMotionObsSize], &position_[i * 3]);
 }
 
@@ -24,6 +26,7 @@ void VecEnv::Reset() {
     for (int i = begin; i < end; ++i) {
       envs_[i].Reset();
       termination_[i] = Termination::kNone;
+      stepped_calf_contact_[i] = 0;
       WriteRow(i, &motion_obs_[i * kMotionObsSize], &position_[i * 3]);
     }
   });
@@ -35,8 +38,10 @@ void VecEnv::Step(const float* actions) {
       Env& env = envs_[i];
       const Termination t = env.Step(actions + i * kActionSize);
       termination_[i] = t;
+      stepped_calf_contact_[i] = env.calf_contact();
       if (t != Termination::kNone) {
         WriteRow(i, &terminal_motion_obs_[i * kMotionObsSize], &terminal_position_[i * 3]);
+        terminal_state_[i] = env.state();
         env.Reset();
       }
       WriteRow(i, &motion_obs_[i * kMotionObsSize], &position_[i * 3]);

@@ -34,6 +34,12 @@ class VecEnv {
   const Termination* termination() const { return termination_.data(); }
   const float* terminal_motion_obs() const { return terminal_motion_obs_.data(); }
   const float* terminal_position() const { return terminal_position_.data(); }
+  // Of the last Step: env i's state at the end of that step (before any reset), and whether a
+  // calf struck the floor during it.
+  const RobotState& stepped_state(int i) const {
+    return termination_[i] == Termination::kNone ? envs_[i].state() : terminal_state_[i];
+  }
+  bool stepped_calf_contact(int i) const { return stepped_calf_contact_[i] != 0; }
 
   Env& env(int i) { return envs_[i]; }
   const Env& env(int i) const { return envs_[i]; }
@@ -46,7 +52,8 @@ class VecEnv {
   std::vector<Env> envs_;
   ThreadPool pool_;
   std::vector<float> motion_obs_, position_, terminal_motion_obs_, terminal_position_;
-  std::vector<unsigned char> foot_contact_;
+  std::vector<unsigned char> foot_contact_, stepped_calf_contact_;
+  std::vector<RobotState> terminal_state_;
   std::vector<Termination> termination_;
 };
 

@@ -10,7 +10,7 @@ namespace flsd {
 struct PolicyConfig {
   std::vector<int> actor_hidden{128, 64};
   std::vector<int> critic_hidden{128, 64};
-  double init_std = 1.0;  // rsl_rl's init_noise_std
+  double init_std = 1.0;  // rsl_rl's init_noise_std (Gaussian policies only)
   template <class V>
   void Visit(V& v) {
     v("actor_hidden", actor_hidden, Bounds<int>{1, 4096});
@@ -19,25 +19,65 @@ struct PolicyConfig {
   }
 };
 
+// What PPO needs of an actor-critic, whatever its action distribution. A distribution is passed
+// around as one tensor of parameters per sample (what the rollout keeps of the collecting policy),
+// so that PPO can compare the collecting and the updated policy without knowing their kind.
+class PpoPolicyImpl : public torch::nn::Module {
+ public:
+  // The action distribution's parameters for each row of obs [B, ...]: [B, P].
+  virtual torch::Tensor Distribution(const torch::Tensor& obs) = 0;
+  virtual torch::Tensor Value(const torch::Tensor& critic_obs) = 0;  // [B]
+  // Per sample: log density of `actions`, entropy, and KL(old || new).
+  virtual torch::Tensor LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const = 0;
+  virtual torch::Tensor Entropy(const torch::Tensor& distribution) const = 0;
+  virtual torch::Tensor Kl(const torch::Tensor& old_distribution, const torch::Tensor& distribution) const = 0;
+  // One action per row, drawn from the distribution (for collecting rollouts).
+  virtual torch::Tensor Sample(const torch::Tensor& distribution) const = 0;
+};
+
 // A Gaussian policy with a state-independent, learned standard deviation, and a value function.
-class ActorCriticImpl : public torch::nn::Module {
+// Its distribution tensor is [mean (A), std (A)].
+class ActorCriticImpl : public PpoPolicyImpl {
  public:
   ActorCriticImpl(int actor_inputs, int critic_inputs, int actions, const PolicyConfig& config);
 
   torch::Tensor ActionMean(const torch::Tensor& obs) { return actor_->forward(obs); }
-  torch::Tensor Value(const torch::Tensor& critic_obs) { return critic_->forward(critic_obs).squeeze(-1); }
   torch::Tensor Std() const { return log_std_.exp(); }
-  // Sum over action dimensions of the Gaussian log density of `actions`.
-  torch::Tensor LogProb(const torch::Tensor& mean, const torch::Tensor& actions) const;
-  // Entropy of the (state-independent) action distribution.
-  torch::Tensor Entropy() const;
+
+  torch::Tensor Distribution(const torch::Tensor& obs) override;
+  torch::Tensor Value(const torch::Tensor& critic_obs) override { return critic_->forward(critic_obs).squeeze(-1); }
+  torch::Tensor LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const override;
+  torch::Tensor Entropy(const torch::Tensor& distribution) const override;
+  torch::Tensor Kl(const torch::Tensor& old_distribution, const torch::Tensor& distribution) const override;
+  torch::Tensor Sample(const torch::Tensor& distribution) const override;
+
+  torch::nn::Sequential actor() const { return actor_; }
+
+ private:
+  int actions_;
+  torch::nn::Sequential actor_{nullptr}, critic_{nullptr};
+  torch::Tensor log_std_;
+};
+TORCH_MODULE(ActorCritic);
+
+// A categorical policy over `choices` (the skill selector): its distribution tensor is the
+// logits, its action the chosen index as a float column [B, 1].
+class CategoricalActorCriticImpl : public PpoPolicyImpl {
+ public:
+  CategoricalActorCriticImpl(int actor_inputs, int critic_inputs, int choices, const PolicyConfig& config);
+
+  torch::Tensor Distribution(const torch::Tensor& obs) override { return actor_->forward(obs); }
+  torch::Tensor Value(const torch::Tensor& critic_obs) override { return critic_->forward(critic_obs).squeeze(-1); }
+  torch::Tensor LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const override;
+  torch::Tensor Entropy(const torch::Tensor& distribution) const override;
+  torch::Tensor Kl(const torch::Tensor& old_distribution, const torch::Tensor& distribution) const override;
+  torch::Tensor Sample(const torch::Tensor& distribution) const override;
 
   torch::nn::Sequential actor() const { return actor_; }
 
  private:
   torch::nn::Sequential actor_{nullptr}, critic_{nullptr};
-  torch::Tensor log_std_;
 };
-TORCH_MODULE(ActorCritic);
+TORCH_MODULE(CategoricalActorCritic);
 
 }  // namespace flsd

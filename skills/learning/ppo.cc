@@ -32,7 +32,7 @@ Returns ComputeReturns(const Rollout& r, const torch::Tensor& last_values, doubl
   return out;
 }
 
-Ppo::Ppo(ActorCritic policy, const PpoConfig& config)
+Ppo::Ppo(std::shared_ptr<PpoPolicyImpl> policy, const PpoConfig& config)
     : policy_(std::move(policy)),
       config_(config),
       optimizer_(policy_->parameters(), torch::optim::AdamOptions(config.learning_rate)),
@@ -47,10 +47,9 @@ void Ppo::set_learning_rate(double lr) {
 
 PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
   const torch::Tensor obs = Flat(rollout.obs), critic_obs = Flat(rollout.critic_obs);
-  const torch::Tensor actions = Flat(rollout.actions), old_means = Flat(rollout.means);
+  const torch::Tensor actions = Flat(rollout.actions), old_distributions = Flat(rollout.distributions);
   const torch::Tensor old_log_probs = Flat(rollout.log_probs), old_values = Flat(rollout.values);
   const torch::Tensor target = Flat(returns.returns), advantages = Flat(returns.advantages);
-  const torch::Tensor old_std = rollout.action_std;
   const int64_t batch = obs.size(0);
   const int64_t minibatch = std::max<int64_t>(1, batch / config_.minibatches);
 
@@ -60,19 +59,13 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
     const torch::Tensor order = torch::randperm(batch, torch::kLong);
     for (int64_t begin = 0; begin + minibatch <= batch; begin += minibatch) {
       const torch::Tensor idx = order.slice(0, begin, begin + minibatch);
-      const torch::Tensor mean = policy_->ActionMean(obs.index_select(0, idx));
+      const torch::Tensor distribution = policy_->Distribution(obs.index_select(0, idx));
       const torch::Tensor value = policy_->Value(critic_obs.index_select(0, idx));
-      const torch::Tensor std = policy_->Std();
-      const torch::Tensor mb_old_means = old_means.index_select(0, idx);
 
       if (config_.adaptive_learning_rate) {
         torch::NoGradGuard no_grad;
-        // KL(old || new) of diagonal Gaussians, per sample, averaged.
-        const torch::Tensor kl = (torch::log(std / old_std) +
-                                  (old_std.pow(2) + (mb_old_means - mean).pow(2)) / (2.0 * std.pow(2)) - 0.5)
-                                     .sum(-1)
-                                     .mean();
-        const double kl_value = kl.item<double>();
+        const double kl_value =
+            policy_->Kl(old_distributions.index_select(0, idx), distribution).mean().item<double>();
         stats.kl += kl_value;
         if (kl_value > 2.0 * config_.desired_kl) {
           set_learning_rate(std::max(1e-5, learning_rate_ / 1.5));
@@ -81,7 +74,7 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
         }
       }
 
-      const torch::Tensor log_prob = policy_->LogProb(mean, actions.index_select(0, idx));
+      const torch::Tensor log_prob = policy_->LogProb(distribution, actions.index_select(0, idx));
       const torch::Tensor ratio = torch::exp(log_prob - old_log_probs.index_select(0, idx));
       const torch::Tensor adv = advantages.index_select(0, idx);
       const torch::Tensor surrogate =
@@ -92,7 +85,7 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
           mb_old_values + torch::clamp(value - mb_old_values, -config_.clip, config_.clip);
       const torch::Tensor value_loss =
           torch::max((value - mb_target).pow(2), (value_clipped - mb_target).pow(2)).mean();
-      const torch::Tensor entropy = policy_->Entropy();
+      const torch::Tensor entropy = policy_->Entropy(distribution).mean();
       const torch::Tensor loss =
           surrogate + config_.value_coef * value_loss - config_.entropy_coef * entropy;
 

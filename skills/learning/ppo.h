@@ -44,13 +44,12 @@ struct Rollout {
   torch::Tensor obs;         // normalised policy observations
   torch::Tensor critic_obs;  // critic observations
   torch::Tensor actions;
-  torch::Tensor log_probs;   // [T, N]
-  torch::Tensor values;      // [T, N]
-  torch::Tensor means;       // [T, N, A]
+  torch::Tensor log_probs;      // [T, N]
+  torch::Tensor values;         // [T, N]
+  torch::Tensor distributions;  // [T, N, P], the collecting policy's (PpoPolicyImpl::Distribution)
   torch::Tensor rewards;     // [T, N]
   torch::Tensor dones;       // [T, N], 1 where the episode ended after step t (time-outs too)
   torch::Tensor timeouts;    // [T, N], 1 where it ended by time-out
-  torch::Tensor action_std;  // [A], the policy's std while collecting
 };
 
 struct Returns {
@@ -74,7 +73,7 @@ struct PpoStats {
 
 class Ppo {
  public:
-  Ppo(ActorCritic policy, const PpoConfig& config);
+  Ppo(std::shared_ptr<PpoPolicyImpl> policy, const PpoConfig& config);
 
   PpoStats Update(const Rollout& rollout, const Returns& returns);
 
@@ -84,7 +83,7 @@ class Ppo {
   void set_learning_rate(double lr);
 
  private:
-  ActorCritic policy_;
+  std::shared_ptr<PpoPolicyImpl> policy_;
   PpoConfig config_;
   torch::optim::Adam optimizer_;
   double learning_rate_;

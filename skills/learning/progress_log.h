@@ -6,18 +6,25 @@
 
 namespace flsd {
 
-// The run's progress.csv: one row of IterationStats per iteration.
+// A run's progress.csv: a header, then one row per iteration, each starting with the iteration.
 class ProgressLog {
  public:
   // Opens (or creates) the file. Rows past `keep_through_iteration`, written by a run that went on
   // after its last checkpoint, are dropped so that a resumed run does not repeat them.
-  ProgressLog(const std::string& path, int keep_through_iteration);
-  void Append(const IterationStats& stats);
+  ProgressLog(const std::string& path, const std::string& header, int keep_through_iteration);
+  void Append(const std::string& row);  // without the newline
 
  private:
   std::string path_;
   std::ofstream out_;
 };
+
+// The skill trainer's columns, and one row of them.
+extern const char* const kSkillProgressHeader;
+std::string ProgressRow(const IterationStats& stats);
+
+// "1h02m" or "3m05s".
+std::string Duration(double seconds);
 
 // One line for the terminal: iteration, speed, ETA, episode length, discriminator accuracy, reward.
 std::string ProgressLine(const IterationStats& stats, int total_iterations, int num_skills, double eta_seconds);

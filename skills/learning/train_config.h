@@ -17,6 +17,22 @@ enum class Method { kFlsd, kDiayn };
 Method ParseMethod(const std::string& name);  // "flsd" or "diayn"; throws InputError otherwise
 const char* ToString(Method m);
 
+// Smoothness penalties added to the intrinsic reward, legged_gym's terms and units (each scale x
+// term x dt; shared/facts "Rewards"). The paper uses none; without them the skills found on two
+// cores chatter (actions flipping sign every 20 ms, feet tapping at ~19 Hz), which a downstream
+// task's own smoothness terms then punish. ETH D3 adds such regularisation penalties to its
+// skill discovery too. Zero turns a term off.
+struct RegularizationConfig {
+  double action_rate = 0.0;  // x |a_t - a_{t-1}|^2 (legged_gym: -0.01)
+  double dof_acc = 0.0;      // x |(qdot_t - qdot_{t-1}) / dt|^2 (legged_gym: -2.5e-7)
+  template <class V>
+  void Visit(V& v) {
+    v("action_rate", action_rate, Bounds<double>{-1e3, 0.0});
+    v("dof_acc", dof_acc, Bounds<double>{-1e3, 0.0});
+  }
+  bool enabled() const { return action_rate != 0.0 || dof_acc != 0.0; }
+};
+
 struct TrainConfig {
   std::string method = "flsd";
   int seed = 1;
@@ -33,6 +49,7 @@ struct TrainConfig {
   double reward_scale = 0.02;
   double critic_position_scale = 0.25;  // the critic also sees q_xy, x this (1/m)
   int checkpoint_every = 25;            // iterations
+  RegularizationConfig regularization;
   EnvConfig env;
   PolicyConfig policy;
   PpoConfig ppo;
@@ -53,6 +70,7 @@ struct TrainConfig {
     v("reward_scale", reward_scale, Bounds<double>{1e-6, 1e6});
     v("critic_position_scale", critic_position_scale, Bounds<double>{0.0, 100.0});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
+    v("regularization", regularization);
     v("env", env);
     v("policy", policy);
     v("ppo", ppo);

@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/check.h"
+#include "skills/learning/checkpoint_io.h"
 #include "robot/observation.h"
 
 namespace flsd {
@@ -72,7 +73,7 @@ Trainer::Trainer(const TrainConfig& config)
       normalizer_(kNormalizedObs),
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config.pae), config.num_skills, config.discriminator),
-      ppo_(policy_, config.ppo),
+      ppo_(policy_.ptr(), config.ppo),
       pae_optimizer_(pae_->parameters(),
                      torch::optim::AdamWOptions(config.pae.learning_rate).weight_decay(config.pae.weight_decay)),
       discriminator_optimizer_(discriminator_->parameters(),
@@ -81,6 +82,7 @@ Trainer::Trainer(const TrainConfig& config)
   const int n = num_envs_, t = steps_;
   skill_.resize(n);
   previous_action_.assign(n * kActionSize, 0.0f);
+  previous_joint_velocity_.assign(n * a1::kNumJoints, 0.0);
   episode_length_.assign(n, 0);
   ended_.assign(n, 0);
   ended_length_sum_.assign(n, 0);
@@ -95,7 +97,7 @@ Trainer::Trainer(const TrainConfig& config)
   rollout_.obs = torch::zeros({t, n, policy_obs_size_}, f);
   rollout_.critic_obs = torch::zeros({t, n, critic_obs_size_}, f);
   rollout_.actions = torch::zeros({t, n, kActionSize}, f);
-  rollout_.means = torch::zeros({t, n, kActionSize}, f);
+  rollout_.distributions = torch::zeros({t, n, 2 * kActionSize}, f);
   rollout_.log_probs = torch::zeros({t, n}, f);
   rollout_.values = torch::zeros({t, n}, f);
   rollout_.rewards = torch::zeros({t, n}, f);
@@ -106,6 +108,11 @@ Trainer::Trainer(const TrainConfig& config)
   next_motion_ = torch::zeros({t, n, kMotionObsSize}, f);
   next_position_ = torch::zeros({t, n, 2}, f);
   skills_ = torch::zeros({t, n}, torch::kLong);
+  penalties_ = torch::zeros({t, n}, f);
+  for (int i = 0; i < n; ++i) {
+    std::copy(vec_.env(i).state().joint_velocity.begin(), vec_.env(i).state().joint_velocity.end(),
+              &previous_joint_velocity_[i * a1::kNumJoints]);
+  }
 }
 
 torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
@@ -133,13 +140,13 @@ void Trainer::CollectRollout(IterationStats& stats) {
     Clock::time_point start = Clock::now();
     const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/true);
     const torch::Tensor critic_obs = CriticObservations(obs, vec_.position());
-    const torch::Tensor mean = policy_->ActionMean(obs);
-    const torch::Tensor action = (mean + policy_->Std() * torch::randn_like(mean)).contiguous();
+    const torch::Tensor distribution = policy_->Distribution(obs);
+    const torch::Tensor action = policy_->Sample(distribution);
     rollout_.obs[t].copy_(obs);
     rollout_.critic_obs[t].copy_(critic_obs);
     rollout_.actions[t].copy_(action);
-    rollout_.means[t].copy_(mean);
-    rollout_.log_probs[t].copy_(policy_->LogProb(mean, action));
+    rollout_.distributions[t].copy_(distribution);
+    rollout_.log_probs[t].copy_(policy_->LogProb(distribution, action));
     rollout_.values[t].copy_(policy_->Value(critic_obs));
     std::copy(skill_.begin(), skill_.end(), skills_[t].data_ptr<int64_t>());
     stats.seconds_policy += Since(start);
@@ -155,7 +162,6 @@ void Trainer::CollectRollout(IterationStats& stats) {
   const Clock::time_point start = Clock::now();
   const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/false);
   last_values_ = policy_->Value(CriticObservations(obs, vec_.position()));
-  rollout_.action_std = policy_->Std().detach().clone();
   stats.seconds_policy += Since(start);
 
   long episodes = 0, length_sum = 0, falls = 0;
@@ -177,6 +183,8 @@ void Trainer::AfterStep(int t, const float* actions) {
   float* next_position = next_position_[t].data_ptr<float>();
   float* dones = rollout_.dones[t].data_ptr<float>();
   float* timeouts = rollout_.timeouts[t].data_ptr<float>();
+  float* penalties = penalties_[t].data_ptr<float>();
+  const RegularizationConfig& regularization = config_.regularization;
   vec_.pool().ParallelFor(n, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       const Termination ending = vec_.termination()[i];
@@ -192,6 +200,19 @@ void Trainer::AfterStep(int t, const float* actions) {
       timeouts[i] = ending == Termination::kTimeOut ? 1.0f : 0.0f;
       ++episode_length_[i];
       float* previous = &previous_action_[i * kActionSize];
+      double* previous_qd = &previous_joint_velocity_[i * a1::kNumJoints];
+      if (regularization.enabled()) {
+        const a1::JointArray<double>& qd = vec_.stepped_state(i).joint_velocity;
+        double action_rate = 0.0, dof_acc = 0.0;
+        for (int j = 0; j < a1::kNumJoints; ++j) {
+          action_rate += std::pow(actions[i * kActionSize + j] - previous[j], 2);
+          dof_acc += std::pow((qd[j] - previous_qd[j]) / a1::kControlDt, 2);
+        }
+        penalties[i] = static_cast<float>(
+            (regularization.action_rate * action_rate + regularization.dof_acc * dof_acc) * a1::kControlDt);
+      }
+      const a1::JointArray<double>& qd_now = vec_.env(i).state().joint_velocity;  // after any reset
+      std::copy(qd_now.begin(), qd_now.end(), previous_qd);
       if (done) {
         ++ended_[i];
         ended_length_sum_[i] += episode_length_[i];
@@ -232,8 +253,10 @@ void Trainer::ComputeRewards(IterationStats& stats) {
   const torch::Tensor reward = IntrinsicReward(log_probs, skills);
   stats.intrinsic_reward = reward.mean().item<double>();
   stats.discriminator_accuracy = (log_probs.argmax(1) == skills).to(torch::kFloat32).mean().item<double>();
-  const torch::Tensor clipped = config_.only_positive_rewards ? reward.clamp_min(0.0) : reward;
-  rollout_.rewards.copy_((config_.reward_scale * clipped).view({steps_, num_envs_}));
+  // As legged_gym clips its total: penalties included, so that no step pays less than ending.
+  const torch::Tensor total = config_.reward_scale * reward + penalties_.view({count});
+  stats.regularization = penalties_.mean().item<double>();
+  rollout_.rewards.copy_((config_.only_positive_rewards ? total.clamp_min(0.0) : total).view({steps_, num_envs_}));
 }
 
 double Trainer::UpdatePae() {
@@ -293,100 +316,20 @@ IterationStats Trainer::RunIteration() {
 
 // ---- checkpoints ----
 
-namespace {
-
-std::string RngState(const std::vector<Rng>& rngs) {
-  std::ostringstream out;
-  for (const Rng& r : rngs) out << r << '\n';
-  return out.str();
-}
-
-void RestoreRngState(const std::string& state, std::vector<Rng>& rngs) {
-  std::istringstream in(state);
-  for (Rng& r : rngs) in >> r;
-  in >> std::ws;
-  if (!in || !in.eof()) throw InputError("checkpoint: skill random-number states do not match num_envs");
-}
-
-torch::serialize::InputArchive OpenCheckpoint(const std::string& path) {
-  torch::serialize::InputArchive archive;
-  try {
-    archive.load_from(path);
-  } catch (const c10::Error& e) {
-    throw InputError(path + ": not a readable checkpoint: " + e.what_without_backtrace());
-  }
-  return archive;
-}
-
-// Module::load replaces tensors whatever their shape, so the shapes are checked here: a
-// checkpoint from another config is an error that leaves the module as it was, not a crash in
-// the next matrix product.
-void ReadModule(torch::serialize::InputArchive& archive, const char* key, torch::nn::Module& m) {
-  struct Kept {
-    std::string name;
-    torch::Tensor live, copy;
-  };
-  std::vector<Kept> kept;
-  for (const auto& p : m.named_parameters()) kept.push_back({p.key(), p.value(), p.value().detach().clone()});
-  for (const auto& b : m.named_buffers()) kept.push_back({b.key(), b.value(), b.value().detach().clone()});
-  auto restore = [&] {
-    torch::NoGradGuard no_grad;
-    for (const Kept& k : kept) k.live.set_(k.copy);
-  };
-  try {
-    torch::serialize::InputArchive sub;
-    archive.read(key, sub);
-    m.load(sub);
-  } catch (...) {
-    restore();
-    throw;
-  }
-  for (const Kept& k : kept) {
-    if (k.live.sizes() == k.copy.sizes()) continue;
-    const std::string message = std::string("checkpoint tensor ") + key + "." + k.name + " has shape " +
-                                c10::str(k.live.sizes()) + " but this training config needs " + c10::str(k.copy.sizes());
-    restore();
-    throw InputError(message);
-  }
-}
-
-int64_t ReadInt(torch::serialize::InputArchive& archive, const char* key) {
-  c10::IValue value;
-  archive.read(key, value);
-  return value.toInt();
-}
-
-[[noreturn]] void MismatchedCheckpoint(const std::string& path, const c10::Error& e) {
-  throw InputError(path + ": checkpoint does not fit this training config (" +
-                   std::string(e.what_without_backtrace()) + ")");
-}
-
-}  // namespace
-
 void Trainer::SaveCheckpoint(const std::string& path) const {
   torch::serialize::OutputArchive archive;
-  auto save_module = [&](const char* key, const torch::nn::Module& m) {
-    torch::serialize::OutputArchive sub;
-    m.save(sub);
-    archive.write(key, sub);
-  };
-  auto save_optimizer = [&](const char* key, const torch::optim::Optimizer& o) {
-    torch::serialize::OutputArchive sub;
-    o.save(sub);
-    archive.write(key, sub);
-  };
-  save_module("policy", *policy_);
-  save_module("normalizer", *normalizer_);
-  save_module("pae", *pae_);
-  save_module("discriminator", *discriminator_);
-  save_optimizer("policy_optimizer", ppo_.optimizer());
-  save_optimizer("pae_optimizer", pae_optimizer_);
-  save_optimizer("discriminator_optimizer", discriminator_optimizer_);
+  WriteModule(archive, "policy", *policy_);
+  WriteModule(archive, "normalizer", *normalizer_);
+  WriteModule(archive, "pae", *pae_);
+  WriteModule(archive, "discriminator", *discriminator_);
+  WriteOptimizer(archive, "policy_optimizer", ppo_.optimizer());
+  WriteOptimizer(archive, "pae_optimizer", pae_optimizer_);
+  WriteOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
   archive.write("config", c10::IValue(ToYamlString(config_)));
   archive.write("iteration", c10::IValue(static_cast<int64_t>(iteration_)));
   archive.write("env_steps", c10::IValue(static_cast<int64_t>(env_steps_)));
   archive.write("learning_rate", c10::IValue(ppo_.learning_rate()));
-  archive.write("torch_rng", at::detail::getDefaultCPUGenerator().get_state());
+  WriteTorchRng(archive);
   archive.write("skill_rng", c10::IValue(RngState(skill_rng_)));
   WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
 }
@@ -412,31 +355,19 @@ TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& ch
 
 void Trainer::LoadCheckpoint(const std::string& path) {
   torch::serialize::InputArchive archive = OpenCheckpoint(path);
-  auto load_module = [&](const char* key, torch::nn::Module& m) { ReadModule(archive, key, m); };
-  auto load_optimizer = [&](const char* key, torch::optim::Optimizer& o) {
-    torch::serialize::InputArchive sub;
-    archive.read(key, sub);
-    o.load(sub);
-  };
   try {
-    load_module("policy", *policy_);
-    load_module("normalizer", *normalizer_);
-    load_module("pae", *pae_);
-    load_module("discriminator", *discriminator_);
-    load_optimizer("policy_optimizer", ppo_.optimizer());
-    load_optimizer("pae_optimizer", pae_optimizer_);
-    load_optimizer("discriminator_optimizer", discriminator_optimizer_);
+    ReadModule(archive, "policy", *policy_);
+    ReadModule(archive, "normalizer", *normalizer_);
+    ReadModule(archive, "pae", *pae_);
+    ReadModule(archive, "discriminator", *discriminator_);
+    ReadOptimizer(archive, "policy_optimizer", ppo_.optimizer());
+    ReadOptimizer(archive, "pae_optimizer", pae_optimizer_);
+    ReadOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
     iteration_ = static_cast<int>(ReadInt(archive, "iteration"));
     env_steps_ = static_cast<long>(ReadInt(archive, "env_steps"));
-    c10::IValue value;
-    archive.read("learning_rate", value);
-    ppo_.set_learning_rate(value.toDouble());
-    torch::Tensor torch_rng;
-    archive.read("torch_rng", torch_rng);
-    at::Generator generator = at::detail::getDefaultCPUGenerator();  // a handle to the global one
-    generator.set_state(torch_rng);
-    archive.read("skill_rng", value);
-    RestoreRngState(value.toStringRef(), skill_rng_);
+    ppo_.set_learning_rate(ReadDouble(archive, "learning_rate"));
+    ReadTorchRng(archive);
+    RestoreRngState(ReadString(archive, "skill_rng"), skill_rng_, "skill");
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(path, e);
   } catch (const InputError& e) {

@@ -29,6 +29,7 @@ struct IterationStats {
   double fall_fraction = 0.0;         // of the episodes that ended, the share that fell
   double discriminator_accuracy = 0.0;
   double intrinsic_reward = 0.0;      // mean of Eq. 11 before any clipping
+  double regularization = 0.0;        // mean smoothness penalty per step (dt-scaled, <= 0)
   double discriminator_loss = 0.0;
   double pae_loss = 0.0;
   double action_std = 0.0;
@@ -103,6 +104,7 @@ class Trainer {
   std::vector<int> skill_;
   std::vector<Rng> skill_rng_;
   std::vector<float> previous_action_;
+  std::vector<double> previous_joint_velocity_;  // per env x 12, for the dof_acc penalty
   std::vector<MotionHistory> history_;
   std::vector<int> episode_length_;
   std::vector<int> ended_, ended_length_sum_, ended_falls_;
@@ -114,6 +116,7 @@ class Trainer {
   torch::Tensor next_motion_;    // [T, N, 33] o^m_{t+1}
   torch::Tensor next_position_;  // [T, N, 2] q_xy at t+1
   torch::Tensor skills_;         // [T, N] int64
+  torch::Tensor penalties_;      // [T, N] smoothness penalties (RegularizationConfig), dt-scaled
   torch::Tensor discriminator_obs_;  // [T * N, o^d]
   torch::Tensor last_values_;    // [N]
 

@@ -1,6 +1,8 @@
 #include "skills/runtime/skill_library.h"
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "core/check.h"
@@ -88,6 +90,15 @@ const FloatTensor& Tensor(const SafeTensors& file, const std::string& path, cons
   return it->second;
 }
 
+std::string FileFingerprint(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  uint64_t hash = 1469598103934665603ULL;
+  for (char c; in.get(c);) hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
+  char text[17];
+  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
 std::vector<double> DefaultPose() { return {a1::kDefaultJointPos.begin(), a1::kDefaultJointPos.end()}; }
 
 }  // namespace
@@ -96,6 +107,7 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   const SafeTensors file = ReadSafeTensors(path);
   SkillLibrary lib;
   lib.path_ = path;
+  lib.fingerprint_ = FileFingerprint(path);
   const auto format = file.metadata.find("format");
   if (format == file.metadata.end() || format->second != kFormat || file.metadata.count("flsd") == 0) {
     throw InputError(path + ": a safetensors file, but not an FLSD skill library (no '" + std::string(kFormat) +

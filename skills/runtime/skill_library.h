@@ -43,9 +43,12 @@ class SkillLibrary {
   const std::vector<SkillDescriptor>& skills() const { return skills_; }
   const nlohmann::json& metadata() const { return metadata_; }
   const std::string& path() const { return path_; }
+  // A hash of the file's bytes (FNV-1a, 64 bits, hex): what a selector records of the library it
+  // was trained over, so that it is never run over different skills.
+  const std::string& fingerprint() const { return fingerprint_; }
 
  private:
-  std::string path_;
+  std::string path_, fingerprint_;
   nlohmann::json metadata_;
   int num_skills_ = 0;
   int policy_obs_size_ = 0;

@@ -15,6 +15,7 @@
 #include "core/check.h"
 #include "skills/learning/evaluation.h"
 #include "skills/learning/export.h"
+#include "skills/learning/task_trainer.h"
 #include "skills/learning/training_run.h"
 #include "tools/flsd/sim_demo.h"
 
@@ -41,6 +42,18 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--out", train.run_dir, "Run folder (config.yaml, checkpoint.pt, progress.csv)")->required();
   train_cmd->add_flag("--resume", train.resume, "Continue the run in --out from its checkpoint");
   train_cmd->add_option("--iterations", train.iterations, "Train until this many iterations in total")
+      ->check(CLI::Range(1, 100000000));
+
+  flsd::TaskRunOptions task;
+  CLI::App* task_cmd = app.add_subcommand(
+      "train-selector", "Train the velocity-tracking skill selector (or, --method scratch, a policy from scratch)");
+  task_cmd->add_option("--config", task.config_path, "Task training config (configs/selector_*.yaml)");
+  task_cmd->add_option("--method", task.method, "selector or scratch (default: the config's)")
+      ->check(CLI::IsMember({"selector", "scratch"}));
+  task_cmd->add_option("--library", task.library, "Skill library the selector chooses from (default: the config's)");
+  task_cmd->add_option("--out", task.run_dir, "Run folder (config.yaml, checkpoint.pt, progress.csv)")->required();
+  task_cmd->add_flag("--resume", task.resume, "Continue the run in --out from its checkpoint");
+  task_cmd->add_option("--iterations", task.iterations, "Train until this many iterations in total")
       ->check(CLI::Range(1, 100000000));
 
   std::string run_dir, library_path;
@@ -102,6 +115,12 @@ int main(int argc, char** argv) {
       std::signal(SIGINT, RequestStop);
       std::signal(SIGTERM, RequestStop);
       return flsd::RunTraining(train, g_stop);
+    }
+    if (*task_cmd) {
+      if (!task.resume && task.config_path.empty()) throw flsd::InputError("train-selector: --config is required for a new run");
+      std::signal(SIGINT, RequestStop);
+      std::signal(SIGTERM, RequestStop);
+      return flsd::RunTaskTraining(task, g_stop);
     }
     if (*eval_cmd) {
       flsd::ConfigureTorchThreads(0);

@@ -87,7 +87,8 @@ TEST(ActorCritic, LogProbIsTheDiagonalGaussianDensity) {
   EXPECT_TRUE(torch::allclose(policy->Std(), torch::tensor({0.5f, 2.0f})));
   const torch::Tensor mean = torch::tensor({{0.0f, 1.0f}, {-1.0f, 3.0f}});
   const torch::Tensor actions = torch::tensor({{0.5f, -1.0f}, {-1.0f, 3.0f}});
-  const torch::Tensor log_prob = policy->LogProb(mean, actions);
+  const torch::Tensor distribution = torch::cat({mean, policy->Std().expand_as(mean)}, -1);
+  const torch::Tensor log_prob = policy->LogProb(distribution, actions);
   ASSERT_EQ(log_prob.sizes(), torch::IntArrayRef({2}));
   const double sigma[2] = {0.5, 2.0};
   for (int b = 0; b < 2; ++b) {
@@ -104,7 +105,39 @@ TEST(ActorCritic, EntropyOfTheDiagonalGaussian) {
   ActorCritic policy = TinyPolicy(3, 3);
   SetLogStd(policy, {-1.0f, 0.0f, 0.7f});
   const double per_dim = 0.5 * (1.0 + std::log(2.0 * M_PI));
-  EXPECT_NEAR(policy->Entropy().item<double>(), -1.0 + 0.0 + 0.7 + 3 * per_dim, 1e-5);
+  const torch::Tensor entropy = policy->Entropy(policy->Distribution(torch::randn({2, 3})));
+  ASSERT_EQ(entropy.sizes(), torch::IntArrayRef({2}));
+  EXPECT_NEAR(entropy[1].item<double>(), -1.0 + 0.0 + 0.7 + 3 * per_dim, 1e-5);
+}
+
+// KL(N(0, 1) || N(1, 2)) = log 2 + (1 + 1) / 8 - 1/2, per dimension.
+TEST(ActorCritic, KlOfGaussiansHasTheClosedForm) {
+  ActorCritic policy = TinyPolicy(3, 1);
+  const torch::Tensor old_distribution = torch::tensor({{0.0f, 1.0f}});
+  const torch::Tensor distribution = torch::tensor({{1.0f, 2.0f}});
+  EXPECT_NEAR(policy->Kl(old_distribution, distribution).item<double>(), std::log(2.0) + 2.0 / 8.0 - 0.5, 1e-6);
+  EXPECT_NEAR(policy->Kl(distribution, distribution).item<double>(), 0.0, 1e-7);
+}
+
+TEST(CategoricalActorCritic, LogProbEntropyAndKlOfKnownDistributions) {
+  PolicyConfig config;
+  config.actor_hidden = {8};
+  config.critic_hidden = {8};
+  CategoricalActorCritic policy(3, 3, 4, config);
+  // Logits log(0.1, 0.2, 0.3, 0.4) and the uniform distribution.
+  const torch::Tensor p = torch::tensor({{0.1f, 0.2f, 0.3f, 0.4f}}).log();
+  const torch::Tensor uniform = torch::zeros({1, 4});
+  EXPECT_NEAR(policy->LogProb(p, torch::tensor({{2.0f}})).item<double>(), std::log(0.3), 1e-6);
+  EXPECT_NEAR(policy->Entropy(uniform).item<double>(), std::log(4.0), 1e-6);
+  const double entropy = -(0.1 * std::log(0.1) + 0.2 * std::log(0.2) + 0.3 * std::log(0.3) + 0.4 * std::log(0.4));
+  EXPECT_NEAR(policy->Entropy(p).item<double>(), entropy, 1e-6);
+  // KL(p || uniform) = log 4 - H(p).
+  EXPECT_NEAR(policy->Kl(p, uniform).item<double>(), std::log(4.0) - entropy, 1e-6);
+  // Samples are valid indices, as a float column.
+  const torch::Tensor sample = policy->Sample(torch::zeros({100, 4}));
+  EXPECT_EQ(sample.sizes(), torch::IntArrayRef({100, 1}));
+  EXPECT_GE(sample.min().item<float>(), 0.0f);
+  EXPECT_LE(sample.max().item<float>(), 3.0f);
 }
 
 TEST(ActorCritic, ShapesOfMeanAndValue) {
@@ -117,27 +150,32 @@ TEST(ActorCritic, ShapesOfMeanAndValue) {
 
 // A one-step bandit: reward 1 when the first action component is positive. Each env's episode
 // ends after every step.
-Rollout BanditRollout(ActorCritic& policy, const torch::Tensor& obs) {
+// `reward` maps the actions [T, N, A] to rewards [T, N].
+template <class Reward>
+Rollout BanditRollout(PpoPolicyImpl& policy, const torch::Tensor& obs, Reward reward) {
   torch::NoGradGuard no_grad;
   Rollout r;
   const int64_t t = obs.size(0), n = obs.size(1);
   r.obs = obs;
   r.critic_obs = obs;
-  r.means = policy->ActionMean(obs);
-  r.actions = r.means + policy->Std() * torch::randn_like(r.means);
-  r.log_probs = policy->LogProb(r.means, r.actions);
-  r.values = policy->Value(obs);
-  r.rewards = (r.actions.select(2, 0) > 0).to(torch::kFloat32);
+  r.distributions = policy.Distribution(obs);
+  r.actions = policy.Sample(r.distributions);
+  r.log_probs = policy.LogProb(r.distributions, r.actions);
+  r.values = policy.Value(obs);
+  r.rewards = reward(r.actions);
   r.dones = torch::ones({t, n});
   r.timeouts = torch::zeros({t, n});
-  r.action_std = policy->Std().detach().clone();
   return r;
+}
+
+torch::Tensor FirstActionPositive(const torch::Tensor& actions) {
+  return (actions.select(2, 0) > 0).to(torch::kFloat32);
 }
 
 TEST(Ppo, LearnsTheBandit) {
   torch::manual_seed(4);
   ActorCritic policy = TinyPolicy(4, 2);
-  Ppo ppo(policy, PpoConfig{});
+  Ppo ppo(policy.ptr(), PpoConfig{});
   const torch::Tensor obs = torch::randn({8, 32, 4});  // [T, N, obs]
   auto mean_action0 = [&] {
     torch::NoGradGuard no_grad;
@@ -146,7 +184,7 @@ TEST(Ppo, LearnsTheBandit) {
   const double before = mean_action0();
   double first_reward = 0.0, last_reward = 0.0;
   for (int update = 0; update < 20; ++update) {
-    const Rollout r = BanditRollout(policy, obs);
+    const Rollout r = BanditRollout(*policy, obs, FirstActionPositive);
     const double reward = r.rewards.mean().item<double>();
     if (update == 0) first_reward = reward;
     last_reward = reward;
@@ -166,13 +204,33 @@ TEST(Ppo, LearnsTheBandit) {
   EXPECT_GT(last_reward, 0.9);
 }
 
+// The categorical policy learns which of 5 choices pays: from 1/5 of the time to nearly always.
+TEST(Ppo, CategoricalPolicyLearnsTheBandit) {
+  torch::manual_seed(6);
+  PolicyConfig config;
+  config.actor_hidden = {16};
+  config.critic_hidden = {16};
+  CategoricalActorCritic policy(4, 4, 5, config);
+  Ppo ppo(policy.ptr(), PpoConfig{});
+  const torch::Tensor obs = torch::randn({8, 32, 4});
+  auto choice3 = [](const torch::Tensor& actions) { return (actions.select(2, 0) == 3).to(torch::kFloat32); };
+  double first_reward = 0.0, last_reward = 0.0;
+  for (int update = 0; update < 30; ++update) {
+    const Rollout r = BanditRollout(*policy, obs, choice3);
+    (update == 0 ? first_reward : last_reward) = r.rewards.mean().item<double>();
+    ASSERT_TRUE(ppo.Update(r, ComputeReturns(r, torch::zeros({32}), 0.99, 0.95)).finite);
+  }
+  EXPECT_LT(first_reward, 0.35);
+  EXPECT_GT(last_reward, 0.9);
+}
+
 // A NaN in the network makes the loss NaN: the update reports it and leaves the weights alone.
 TEST(Ppo, NonFiniteLossTakesNoStep) {
   torch::manual_seed(5);
   ActorCritic policy = TinyPolicy(4, 2);
-  Ppo ppo(policy, PpoConfig{});
+  Ppo ppo(policy.ptr(), PpoConfig{});
   const torch::Tensor obs = torch::randn({4, 8, 4});
-  Rollout r = BanditRollout(policy, obs);
+  Rollout r = BanditRollout(*policy, obs, FirstActionPositive);
   r.rewards[0][0] = NAN;
   std::vector<torch::Tensor> before;
   for (const torch::Tensor& p : policy->parameters()) before.push_back(p.detach().clone());
@@ -184,7 +242,7 @@ TEST(Ppo, NonFiniteLossTakesNoStep) {
 
 TEST(Ppo, SetLearningRateReachesTheOptimizer) {
   ActorCritic policy = TinyPolicy(4, 2);
-  Ppo ppo(policy, PpoConfig{});
+  Ppo ppo(policy.ptr(), PpoConfig{});
   EXPECT_EQ(ppo.learning_rate(), PpoConfig{}.learning_rate);
   ppo.set_learning_rate(3e-4);
   EXPECT_EQ(ppo.learning_rate(), 3e-4);

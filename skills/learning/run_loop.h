@@ -1,0 +1,58 @@
+#pragma once
+// What every training command shares: the run folder (config.yaml, commits, checkpoint.pt,
+// progress.csv) and the loop that iterates, logs, checkpoints, and stops cleanly on request or
+// when a loss turns non-finite.
+
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <string>
+
+#include "skills/learning/progress_log.h"
+
+namespace flsd {
+
+struct RunFolder {
+  std::string dir, config_file, checkpoint, progress;
+};
+
+// The paths of run_dir; throws InputError if resuming finds no checkpoint, or starting finds one.
+RunFolder OpenRunFolder(const std::string& run_dir, bool resume);
+
+// Creates the folder, writes the resolved config atomically, and appends the build's commit to
+// the commits file (each sitting of a run adds one line).
+void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, bool resume);
+
+// Runs trainer.RunIteration() until `iterations` or a stop request, appending `row(stats)` to
+// progress.csv and `line(stats, eta_seconds)` to the log, and checkpointing every
+// `checkpoint_every` iterations and at the end. Returns 0, or 3 when stats.finite turned false
+// (the last good checkpoint is kept as it was).
+template <class Trainer, class Row, class Line>
+int RunIterations(Trainer& trainer, const RunFolder& folder, const std::string& header, int iterations,
+                  int checkpoint_every, const std::atomic<bool>& stop_requested, Row row, Line line) {
+  ProgressLog log(folder.progress, header, trainer.iteration());
+  double seconds_per_iteration = 0.0;
+  int saved_iteration = trainer.iteration();
+  while (trainer.iteration() < iterations && !stop_requested) {
+    const auto stats = trainer.RunIteration();
+    if (!stats.finite) {
+      spdlog::error("iteration {}: a loss became NaN or infinite; stopping. {} is kept as it was at iteration {}",
+                    stats.iteration, folder.checkpoint, saved_iteration);
+      return 3;
+    }
+    log.Append(row(stats));
+    seconds_per_iteration = seconds_per_iteration == 0.0 ? stats.seconds_total
+                                                         : 0.9 * seconds_per_iteration + 0.1 * stats.seconds_total;
+    spdlog::info("{}", line(stats, seconds_per_iteration * (iterations - stats.iteration)));
+    if (stats.iteration % checkpoint_every == 0) {
+      trainer.SaveCheckpoint(folder.checkpoint);
+      saved_iteration = stats.iteration;
+    }
+  }
+  if (saved_iteration != trainer.iteration()) trainer.SaveCheckpoint(folder.checkpoint);
+  spdlog::info("{} at iteration {}; checkpoint {}", stop_requested ? "stopped" : "finished", trainer.iteration(),
+               folder.checkpoint);
+  return 0;
+}
+
+}  // namespace flsd

@@ -1,0 +1,333 @@
+#include "skills/learning/task_trainer.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "core/atomic_file.h"
+#include "core/check.h"
+#include "robot/observation.h"
+#include "skills/learning/checkpoint_io.h"
+#include "skills/learning/run_loop.h"
+#include "skills/learning/training_run.h"
+
+namespace flsd {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+const TaskTrainConfig& SeedTorch(const TaskTrainConfig& config) {
+  torch::manual_seed(config.seed);
+  return config;
+}
+
+std::optional<SkillLibrary> LoadSelectorLibrary(const TaskTrainConfig& config) {
+  if (ParseTaskMethod(config.method) != TaskMethod::kSelector) return std::nullopt;
+  return SkillLibrary::Load(config.library);
+}
+
+}  // namespace
+
+TaskMethod ParseTaskMethod(const std::string& name) {
+  if (name == "selector") return TaskMethod::kSelector;
+  if (name == "scratch") return TaskMethod::kScratch;
+  throw InputError("method: expected 'selector' or 'scratch', got '" + name + "'");
+}
+
+int TaskPolicyObsSize(TaskMethod method) {
+  return method == TaskMethod::kSelector ? kTaskObsSize : kTaskObsSize + kActionSize;
+}
+
+void ValidateTaskTrainConfig(const TaskTrainConfig& config, const std::string& where) {
+  try {
+    if (ParseTaskMethod(config.method) == TaskMethod::kSelector && config.library.empty()) {
+      throw InputError("library: the selector needs a skill library to choose from (models/*.safetensors)");
+    }
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+}
+
+TaskTrainConfig LoadTaskTrainConfig(const std::string& path) {
+  TaskTrainConfig config;
+  ReadConfig(LoadYamlFile(path), path + ":", config);
+  ValidateTaskTrainConfig(config, path);
+  return config;
+}
+
+TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
+    : config_(SeedTorch(config)),
+      method_(ParseTaskMethod(config.method)),
+      library_(LoadSelectorLibrary(config)),
+      num_envs_(config.num_envs),
+      steps_(config.steps_per_env),
+      obs_size_(TaskPolicyObsSize(method_)),
+      task_(config.env, config.task, config.num_envs, config.seed, ResolveThreadCount(config.num_threads)),
+      scratch_(method_ == TaskMethod::kScratch ? ActorCritic(obs_size_, obs_size_, kActionSize, config.policy)
+                                               : ActorCritic(nullptr)),
+      selector_(library_ ? CategoricalActorCritic(obs_size_, obs_size_, library_->num_skills(), config.policy)
+                         : CategoricalActorCritic(nullptr)),
+      policy_(library_ ? std::shared_ptr<PpoPolicyImpl>(selector_.ptr()) : std::shared_ptr<PpoPolicyImpl>(scratch_.ptr())),
+      normalizer_(obs_size_),
+      ppo_(policy_, config.ppo) {
+  ValidateTaskTrainConfig(config, "task training config");
+  const int n = num_envs_, t = steps_;
+  if (library_) {
+    skill_runners_.reserve(n);
+    for (int i = 0; i < n; ++i) skill_runners_.emplace_back(*library_);
+  }
+  previous_action_.assign(n * kActionSize, 0.0f);
+  joint_actions_.assign(n * kActionSize, 0.0f);
+  task_obs_.assign(n * kTaskObsSize, 0.0f);
+  episode_return_.assign(n, 0.0);
+  episode_length_.assign(n, 0);
+  const auto f = torch::kFloat32;
+  const int64_t action_size = method_ == TaskMethod::kSelector ? 1 : kActionSize;
+  const int64_t distribution_size = method_ == TaskMethod::kSelector ? library_->num_skills() : 2 * kActionSize;
+  rollout_.obs = torch::zeros({t, n, obs_size_}, f);
+  rollout_.critic_obs = rollout_.obs;  // the critic sees what the actor sees
+  rollout_.actions = torch::zeros({t, n, action_size}, f);
+  rollout_.distributions = torch::zeros({t, n, distribution_size}, f);
+  rollout_.log_probs = torch::zeros({t, n}, f);
+  rollout_.values = torch::zeros({t, n}, f);
+  rollout_.rewards = torch::zeros({t, n}, f);
+  rollout_.dones = torch::zeros({t, n}, f);
+  rollout_.timeouts = torch::zeros({t, n}, f);
+  raw_obs_ = torch::zeros({n, obs_size_}, f);
+}
+
+torch::Tensor TaskTrainer::Observations(bool update_normalizer) {
+  task_.WriteTaskObservations(task_obs_.data());
+  float* raw = raw_obs_.data_ptr<float>();
+  for (int i = 0; i < num_envs_; ++i) {
+    float* row = raw + i * obs_size_;
+    std::copy(&task_obs_[i * kTaskObsSize], &task_obs_[(i + 1) * kTaskObsSize], row);
+    if (method_ == TaskMethod::kScratch) {
+      std::copy(&previous_action_[i * kActionSize], &previous_action_[(i + 1) * kActionSize], row + kTaskObsSize);
+    }
+  }
+  if (update_normalizer) normalizer_->Update(raw_obs_);
+  return normalizer_->Normalize(raw_obs_);
+}
+
+// The joint actions for this step: the chosen skill's (the frozen low-level policy, run as the
+// server runs it), or the scratch policy's own.
+void TaskTrainer::JointActions(const torch::Tensor& policy_action) {
+  const float* chosen = policy_action.data_ptr<float>();
+  if (method_ == TaskMethod::kScratch) {
+    std::copy(chosen, chosen + num_envs_ * kActionSize, joint_actions_.begin());
+    return;
+  }
+  const int num_skills = library_->num_skills();
+  const float* motion = task_.vec_env().motion_obs();
+  task_.vec_env().pool().ParallelFor(num_envs_, [&](int begin, int end) {
+    std::vector<float> policy_obs(PolicyObservationSize(num_skills));
+    for (int i = begin; i < end; ++i) {
+      BuildPolicyObservation(motion + i * kMotionObsSize, &previous_action_[i * kActionSize],
+                             static_cast<int>(chosen[i]), num_skills, policy_obs.data());
+      skill_runners_[i].Act(policy_obs.data(), &joint_actions_[i * kActionSize]);
+    }
+  });
+}
+
+void TaskTrainer::Collect(TaskIterationStats& stats) {
+  torch::NoGradGuard no_grad;
+  long ended = 0, length_sum = 0, falls = 0;
+  double return_sum = 0.0, reward_sum = 0.0, lin_sum = 0.0, ang_sum = 0.0, lin_err2 = 0.0, ang_err2 = 0.0;
+  for (int t = 0; t < steps_; ++t) {
+    const torch::Tensor obs = Observations(/*update_normalizer=*/true);
+    const torch::Tensor distribution = policy_->Distribution(obs);
+    const torch::Tensor action = policy_->Sample(distribution);
+    rollout_.obs[t].copy_(obs);
+    rollout_.actions[t].copy_(action);
+    rollout_.distributions[t].copy_(distribution);
+    rollout_.log_probs[t].copy_(policy_->LogProb(distribution, action));
+    rollout_.values[t].copy_(policy_->Value(obs));
+
+    JointActions(action);
+    task_.Step(joint_actions_.data());
+
+    float* rewards = rollout_.rewards[t].data_ptr<float>();
+    float* dones = rollout_.dones[t].data_ptr<float>();
+    float* timeouts = rollout_.timeouts[t].data_ptr<float>();
+    for (int i = 0; i < num_envs_; ++i) {
+      const Termination ending = task_.vec_env().termination()[i];
+      const VelocityRewardTerms& terms = task_.terms(i);
+      rewards[i] = task_.rewards()[i];
+      reward_sum += rewards[i];
+      lin_sum += terms.tracking_lin_vel;
+      ang_sum += terms.tracking_ang_vel;
+      // The tracking terms are exp(-e^2 / sigma): e^2 is recovered from them exactly.
+      lin_err2 += -std::log(std::max(terms.tracking_lin_vel, 1e-300)) * config_.task.reward.tracking_sigma;
+      ang_err2 += -std::log(std::max(terms.tracking_ang_vel, 1e-300)) * config_.task.reward.tracking_sigma;
+      episode_return_[i] += rewards[i];
+      ++episode_length_[i];
+      dones[i] = ending != Termination::kNone ? 1.0f : 0.0f;
+      timeouts[i] = ending == Termination::kTimeOut ? 1.0f : 0.0f;
+      float* previous = &previous_action_[i * kActionSize];
+      if (ending != Termination::kNone) {
+        ++ended;
+        length_sum += episode_length_[i];
+        return_sum += episode_return_[i];
+        falls += IsFailure(ending);
+        episode_return_[i] = 0.0;
+        episode_length_[i] = 0;
+        std::fill(previous, previous + kActionSize, 0.0f);
+      } else {
+        std::copy(&joint_actions_[i * kActionSize], &joint_actions_[(i + 1) * kActionSize], previous);
+      }
+    }
+  }
+  last_values_ = policy_->Value(Observations(/*update_normalizer=*/false));
+  const double samples = static_cast<double>(steps_) * num_envs_;
+  stats.mean_reward = reward_sum / samples;
+  stats.tracking_lin_vel = lin_sum / samples;
+  stats.tracking_ang_vel = ang_sum / samples;
+  stats.lin_vel_error = std::sqrt(lin_err2 / samples);
+  stats.ang_vel_error = std::sqrt(ang_err2 / samples);
+  stats.episodes_ended = static_cast<int>(ended);
+  stats.mean_episode_length = ended > 0 ? double(length_sum) / ended : 0.0;
+  stats.mean_episode_return = ended > 0 ? return_sum / ended : 0.0;
+  stats.fall_fraction = ended > 0 ? double(falls) / ended : 0.0;
+}
+
+TaskIterationStats TaskTrainer::RunIteration() {
+  TaskIterationStats stats;
+  const Clock::time_point start = Clock::now();
+  Collect(stats);
+  stats.seconds_collect = Since(start);
+  const Clock::time_point phase = Clock::now();
+  stats.ppo = ppo_.Update(rollout_, ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda));
+  stats.seconds_ppo = Since(phase);
+  ++iteration_;
+  env_steps_ += static_cast<long>(steps_) * num_envs_;
+  stats.iteration = iteration_;
+  stats.env_steps = env_steps_;
+  stats.entropy_or_std = method_ == TaskMethod::kSelector ? stats.ppo.entropy : scratch_->Std().mean().item<double>();
+  stats.seconds_total = Since(start);
+  stats.steps_per_s = steps_ * num_envs_ / stats.seconds_total;
+  stats.finite = stats.ppo.finite;
+  return stats;
+}
+
+// ---- checkpoints ----
+
+void TaskTrainer::SaveCheckpoint(const std::string& path) const {
+  torch::serialize::OutputArchive archive;
+  WriteModule(archive, "policy", *policy_);
+  WriteModule(archive, "normalizer", *normalizer_);
+  WriteOptimizer(archive, "policy_optimizer", ppo_.optimizer());
+  archive.write("config", c10::IValue(ToYamlString(config_)));
+  archive.write("library_fingerprint", c10::IValue(library_ ? library_->fingerprint() : std::string()));
+  archive.write("iteration", c10::IValue(static_cast<int64_t>(iteration_)));
+  archive.write("env_steps", c10::IValue(static_cast<int64_t>(env_steps_)));
+  archive.write("learning_rate", c10::IValue(ppo_.learning_rate()));
+  WriteTorchRng(archive);
+  archive.write("command_rng", c10::IValue(RngState(task_.command_rngs())));
+  WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
+}
+
+void TaskTrainer::LoadCheckpoint(const std::string& path) {
+  torch::serialize::InputArchive archive = OpenCheckpoint(path);
+  try {
+    const std::string fingerprint = ReadString(archive, "library_fingerprint");
+    if (library_ && fingerprint != library_->fingerprint()) {
+      throw InputError("the selector was trained over a library with fingerprint " + fingerprint + ", but " +
+                       library_->path() + " has " + library_->fingerprint() + " (it changed since)");
+    }
+    ReadModule(archive, "policy", *policy_);
+    ReadModule(archive, "normalizer", *normalizer_);
+    ReadOptimizer(archive, "policy_optimizer", ppo_.optimizer());
+    iteration_ = static_cast<int>(ReadInt(archive, "iteration"));
+    env_steps_ = static_cast<long>(ReadInt(archive, "env_steps"));
+    ppo_.set_learning_rate(ReadDouble(archive, "learning_rate"));
+    ReadTorchRng(archive);
+    RestoreRngState(ReadString(archive, "command_rng"), task_.command_rngs(), "command");
+  } catch (const c10::Error& e) {
+    MismatchedCheckpoint(path, e);
+  } catch (const InputError& e) {
+    throw InputError(path + ": does not fit this task config: " + e.what());
+  }
+}
+
+TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skills, const std::string& checkpoint) {
+  torch::serialize::InputArchive archive = OpenCheckpoint(checkpoint);
+  TrainedSelector out;
+  const int obs = TaskPolicyObsSize(TaskMethod::kSelector);
+  out.policy = CategoricalActorCritic(obs, obs, num_skills, config.policy);
+  out.normalizer = RunningNormalizer(obs);
+  try {
+    ReadModule(archive, "policy", *out.policy);
+    ReadModule(archive, "normalizer", *out.normalizer);
+    out.iteration = static_cast<int>(ReadInt(archive, "iteration"));
+    out.env_steps = static_cast<long>(ReadInt(archive, "env_steps"));
+    out.library_fingerprint = ReadString(archive, "library_fingerprint");
+  } catch (const c10::Error& e) {
+    MismatchedCheckpoint(checkpoint, e);
+  } catch (const InputError& e) {
+    throw InputError(checkpoint + ": does not fit this task config: " + e.what());
+  }
+  return out;
+}
+
+// ---- progress ----
+
+const char* const kTaskProgressHeader =
+    "iteration,env_steps,steps_per_s,mean_reward,mean_episode_return,episodes_ended,mean_episode_length,"
+    "fall_fraction,tracking_lin_vel,tracking_ang_vel,lin_vel_error,ang_vel_error,entropy_or_std,surrogate_loss,"
+    "value_loss,kl,learning_rate,seconds_collect,seconds_ppo,seconds_total";
+
+std::string TaskProgressRow(const TaskIterationStats& s) {
+  char row[768];
+  std::snprintf(row, sizeof(row),
+                "%d,%ld,%.1f,%.6f,%.4f,%d,%.2f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.3g,%.4f,%.4f,%.4f",
+                s.iteration, s.env_steps, s.steps_per_s, s.mean_reward, s.mean_episode_return, s.episodes_ended,
+                s.mean_episode_length, s.fall_fraction, s.tracking_lin_vel, s.tracking_ang_vel, s.lin_vel_error,
+                s.ang_vel_error, s.entropy_or_std, s.ppo.surrogate_loss, s.ppo.value_loss, s.ppo.kl,
+                s.ppo.learning_rate, s.seconds_collect, s.seconds_ppo, s.seconds_total);
+  return row;
+}
+
+std::string TaskProgressLine(const TaskIterationStats& s, int total_iterations, double eta_seconds) {
+  char line[512];
+  std::snprintf(line, sizeof(line),
+                "it %d/%d | %.0f steps/s | ETA %s | reward/step %.4f | ep len %.0f (falls %.0f%%) | "
+                "v err %.3f m/s | w err %.3f rad/s | entropy/std %.3f | lr %.1e",
+                s.iteration, total_iterations, s.steps_per_s, Duration(eta_seconds).c_str(), s.mean_reward,
+                s.mean_episode_length, 100.0 * s.fall_fraction, s.lin_vel_error, s.ang_vel_error,
+                s.entropy_or_std, s.ppo.learning_rate);
+  return line;
+}
+
+// ---- the run ----
+
+int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop_requested) {
+  const RunFolder folder = OpenRunFolder(options.run_dir, options.resume);
+  TaskTrainConfig config = LoadTaskTrainConfig(options.resume ? folder.config_file : options.config_path);
+  if (options.resume && (!options.method.empty() || !options.library.empty())) {
+    throw InputError("--method and --library set up a new run; a resumed run keeps its own (" + folder.config_file + ")");
+  }
+  if (!options.method.empty()) config.method = options.method;
+  if (!options.library.empty()) config.library = options.library;
+  if (options.iterations > 0) config.iterations = options.iterations;
+  ValidateTaskTrainConfig(config, folder.config_file);
+  RecordRunStart(folder, ToYamlString(config), options.resume);
+  ConfigureTorchThreads(config.num_threads);
+
+  TaskTrainer trainer(config);
+  if (options.resume) {
+    trainer.LoadCheckpoint(folder.checkpoint);
+    spdlog::info("resumed {} at iteration {} ({} env steps)", options.run_dir, trainer.iteration(), trainer.env_steps());
+  } else {
+    spdlog::info("new velocity-task run ({}{}) in {}: {} envs x {} steps per iteration, {} iterations", config.method,
+                 trainer.library() ? " over " + config.library : std::string(), options.run_dir, config.num_envs,
+                 config.steps_per_env, config.iterations);
+  }
+  return RunIterations(
+      trainer, folder, kTaskProgressHeader, config.iterations, config.checkpoint_every, stop_requested,
+      [](const TaskIterationStats& s) { return TaskProgressRow(s); },
+      [&](const TaskIterationStats& s, double eta) { return TaskProgressLine(s, config.iterations, eta); });
+}
+
+}  // namespace flsd

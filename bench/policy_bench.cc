@@ -27,16 +27,16 @@ struct TorchPolicy {
   std::vector<torch::nn::Linear> layers;
   torch::Tensor mean, std;
 
-  explicit TorchPolicy(const SkillLibrary& library) {
-    for (const DenseLayer& l : library.policy_layers()) {
+  explicit TorchPolicy(const DenseNetwork& network) {
+    for (const DenseLayer& l : network.layers) {
       torch::nn::Linear linear(torch::nn::LinearOptions(l.weight.cols(), l.weight.rows()));
       torch::NoGradGuard no_grad;
       linear->weight.copy_(torch::from_blob(const_cast<float*>(l.weight.data()), {l.weight.rows(), l.weight.cols()}));
       linear->bias.copy_(torch::from_blob(const_cast<float*>(l.bias.data()), {l.bias.size()}));
       layers.push_back(linear);
     }
-    mean = torch::from_blob(const_cast<float*>(library.normalizer_mean().data()), {library.normalizer_mean().size()}).clone();
-    std = torch::from_blob(const_cast<float*>(library.normalizer_std().data()), {library.normalizer_std().size()}).clone();
+    mean = torch::from_blob(const_cast<float*>(network.normalizer_mean.data()), {network.normalizer_mean.size()}).clone();
+    std = torch::from_blob(const_cast<float*>(network.normalizer_std.data()), {network.normalizer_std.size()}).clone();
   }
 
   torch::Tensor Forward(const torch::Tensor& obs) {
@@ -126,7 +126,7 @@ nlohmann::json RunPolicyBenchmark(const PolicyBenchOptions& options) {
 
   torch::set_num_threads(1);  // one observation: threads only add hand-off cost
   torch::NoGradGuard no_grad;
-  TorchPolicy torch_policy(library);
+  TorchPolicy torch_policy(library.policy());
   torch::Tensor torch_action;
   const int torch_calls = std::max(1, options.calls / 10);
   for (int i = 0; i < 50; ++i) torch_action = torch_policy.Forward(obs);

@@ -174,8 +174,10 @@ void Client::Background() {
       s.task_client_id = Own(m.task.client_id);
       s.task_call = Own(m.task.call);
       s.task_message = Own(m.task.message);
+      s.task_path.assign(m.task.path._buffer, m.task.path._buffer + m.task.path._length);
       s.msg.backend = s.msg.fault_message = s.msg.controller = nullptr;
       s.msg.task.client_id = s.msg.task.call = s.msg.task.message = nullptr;
+      s.msg.task.path = {};
       {
         std::lock_guard<std::mutex> lock(state_mutex_);
         latest_ = std::move(s);

@@ -44,6 +44,7 @@ struct StateSample {
   flsd_msgs_RobotState msg{};
   std::string backend, fault_message, controller;
   std::string task_client_id, task_call, task_message;
+  std::vector<double> task_path;  // navigate: the planned path, x0 y0 x1 y1 ...
 };
 
 class Client {

@@ -38,6 +38,8 @@ const char* TaskStateName(flsd_msgs_TaskState state) {
     case flsd_msgs_TASK_SAFETY_STOP: return "safety stop";
     case flsd_msgs_TASK_PREEMPTED: return "preempted";
     case flsd_msgs_TASK_LEASE_LOST: return "lease lost";
+    case flsd_msgs_TASK_NO_PATH: return "no path";
+    case flsd_msgs_TASK_TIMEOUT: return "timeout";
   }
   return "unknown";
 }

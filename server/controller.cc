@@ -17,6 +17,7 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       config_(config),
       supervisor_(config.safety),
       runner_(library),
+      hierarchy_(library.selector() ? std::optional<HierarchicalPolicy>(std::in_place, library) : std::nullopt),
       policy_obs_(PolicyObservationSize(library.num_skills())) {
   state_ = backend_.Read();
   Publish();
@@ -86,6 +87,8 @@ void Controller::Tick() {
   switch (mode_) {
     case flsd_msgs_MODE_STAND: command = StandCommand(); break;
     case flsd_msgs_MODE_SKILL: command = SkillCommand(); break;
+    case flsd_msgs_MODE_VELOCITY:
+    case flsd_msgs_MODE_NAVIGATE: command = VelocityCommand(); break;
     default: command = DampCommand(); break;
   }
   backend_.Send(command);
@@ -93,8 +96,8 @@ void Controller::Tick() {
   if (task_.state == flsd_msgs_TASK_RUNNING) {
     task_.elapsed = static_cast<double>(tick_ - task_start_tick_) * a1::kControlDt;
     const int stand_left = mode_ == flsd_msgs_MODE_STAND ? std::max(0, stand_total_ticks_ - stand_ticks_) : 0;
-    const int skill_left = mode_ == flsd_msgs_MODE_SKILL ? skill_ticks_left_ : pending_skill_ticks_;
-    task_.remaining = (stand_left + skill_left) * a1::kControlDt;
+    const int task_left = mode_ == flsd_msgs_MODE_STAND ? pending_ticks_ : task_ticks_left_;
+    task_.remaining = (stand_left + task_left) * a1::kControlDt;
   }
   Publish();
 }
@@ -114,7 +117,7 @@ void Controller::Apply(const ControlRequest& request) {
       latched_faults_ = 0;
       fault_message_[0] = '\0';
       if (mode_ != flsd_msgs_MODE_STAND) EnterStand();
-      pending_skill_ = -1;
+      pending_mode_ = flsd_msgs_MODE_IDLE;
       break;
     case ControlRequest::Kind::kSkill:
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by a new skill");
@@ -131,12 +134,52 @@ void Controller::Apply(const ControlRequest& request) {
       }
       // Every skill starts from the default pose: the state its episodes started from in training.
       EnterStand();
+      pending_mode_ = flsd_msgs_MODE_SKILL;
       pending_skill_ = request.skill;
-      pending_skill_ticks_ = std::max(1, Ticks(request.duration));
+      pending_ticks_ = std::max(1, Ticks(request.duration));
+      break;
+    case ControlRequest::Kind::kVelocity: {
+      if (!hierarchy_) return;  // the request side refuses these
+      const flsd_msgs_Mode mode = request.navigate ? flsd_msgs_MODE_NAVIGATE : flsd_msgs_MODE_VELOCITY;
+      const bool walking = mode_ == flsd_msgs_MODE_VELOCITY || mode_ == flsd_msgs_MODE_NAVIGATE;
+      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by a new velocity task");
+      StartTask(request, request.navigate ? "navigate" : "track_velocity");
+      if (mode_ == flsd_msgs_MODE_DAMP) {
+        EndTask(flsd_msgs_TASK_SAFETY_STOP, "a safety stop latched before the task could start");
+        return;
+      }
+      if (hazards_ != 0) {
+        char why[192];
+        DescribeFaults(hazards_, state_, config_.safety, why, sizeof why, backend_fault_.data());
+        EndTask(flsd_msgs_TASK_SAFETY_STOP, why);
+        return;
+      }
+      velocity_command_ = hierarchy_->Clip(request.velocity.data());
+      if (walking) {  // already under the selector: change the command without stopping
+        mode_ = mode;
+        task_ticks_left_ = std::max(1, Ticks(request.duration));
+        return;
+      }
+      EnterStand();
+      pending_mode_ = mode;
+      pending_ticks_ = std::max(1, Ticks(request.duration));
+      break;
+    }
+    case ControlRequest::Kind::kVelocityUpdate:
+      if (!hierarchy_ || task_.state != flsd_msgs_TASK_RUNNING || task_.request_id != request.request_id ||
+          task_.client_id != request.client_id) {
+        return;  // that task has ended
+      }
+      velocity_command_ = hierarchy_->Clip(request.velocity.data());
+      task_.message = request.reason;
       break;
     case ControlRequest::Kind::kStop:
+      if (request.only_this_task && (task_.state != flsd_msgs_TASK_RUNNING || task_.request_id != request.request_id ||
+                                     task_.client_id != request.client_id)) {
+        return;
+      }
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(request.stop_state, request.reason.data());
-      pending_skill_ = -1;
+      pending_mode_ = flsd_msgs_MODE_IDLE;
       if (mode_ != flsd_msgs_MODE_DAMP && mode_ != flsd_msgs_MODE_IDLE && mode_ != flsd_msgs_MODE_STAND) EnterStand();
       break;
     case ControlRequest::Kind::kDamp:
@@ -150,7 +193,7 @@ void Controller::Apply(const ControlRequest& request) {
       state_ = backend_.Read();
       latched_faults_ = 0;
       fault_message_[0] = '\0';
-      pending_skill_ = -1;
+      pending_mode_ = flsd_msgs_MODE_IDLE;
       EnterStand();
       break;
   }
@@ -179,7 +222,7 @@ void Controller::EnterDamp(uint32_t faults) {
   }
   mode_ = flsd_msgs_MODE_DAMP;
   skill_ = -1;
-  pending_skill_ = -1;
+  pending_mode_ = flsd_msgs_MODE_IDLE;
   latched_faults_ |= faults;
   ++safety_trips_;
   DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size(),
@@ -206,12 +249,12 @@ JointCommand Controller::StandCommand() {
   a1::JointArray<double> target;
   for (int j = 0; j < a1::kNumJoints; ++j) target[j] = stand_from_[j] + s * (a1::kDefaultJointPos[j] - stand_from_[j]);
   if (stand_ticks_ < stand_total_ticks_) ++stand_ticks_;
-  if (stand_ticks_ >= stand_total_ticks_ && pending_skill_ >= 0) {
-    mode_ = flsd_msgs_MODE_SKILL;
-    skill_ = pending_skill_;
-    skill_ticks_left_ = pending_skill_ticks_;
-    pending_skill_ = -1;
-    pending_skill_ticks_ = 0;
+  if (stand_ticks_ >= stand_total_ticks_ && pending_mode_ != flsd_msgs_MODE_IDLE) {
+    mode_ = pending_mode_;
+    skill_ = mode_ == flsd_msgs_MODE_SKILL ? pending_skill_ : -1;
+    task_ticks_left_ = pending_ticks_;
+    pending_mode_ = flsd_msgs_MODE_IDLE;
+    pending_ticks_ = 0;
     previous_action_.fill(0.0f);  // as at the start of a training episode
   }
   JointCommand command;
@@ -226,6 +269,16 @@ JointCommand Controller::SkillCommand() {
   BuildPolicyObservation(motion_obs_.data(), previous_action_.data(), skill_, library_.num_skills(),
                          policy_obs_.data());
   runner_.Act(policy_obs_.data(), action_.data());
+  return PolicyCommand();
+}
+
+JointCommand Controller::VelocityCommand() {
+  BuildMotionObservation(state_, motion_obs_.data());
+  skill_ = hierarchy_->Act(motion_obs_.data(), velocity_command_.data(), previous_action_.data(), action_.data());
+  return PolicyCommand();
+}
+
+JointCommand Controller::PolicyCommand() {
   for (float a : action_) {
     if (!std::isfinite(a)) {
       EnterDamp(kFaultPolicy);
@@ -235,8 +288,13 @@ JointCommand Controller::SkillCommand() {
   previous_action_ = action_;
   a1::JointArray<double> target = JointTargetsFromAction(action_.data());
   SafetySupervisor::ClampTargets(target);
-  if (--skill_ticks_left_ <= 0) {
-    EndTask(flsd_msgs_TASK_SUCCEEDED, "skill ran for its duration");
+  if (--task_ticks_left_ <= 0) {
+    if (mode_ == flsd_msgs_MODE_NAVIGATE) {
+      EndTask(flsd_msgs_TASK_TIMEOUT, "the navigation ran out of time");
+    } else {
+      EndTask(flsd_msgs_TASK_SUCCEEDED, mode_ == flsd_msgs_MODE_SKILL ? "skill ran for its duration"
+                                                                       : "velocity tracked for its duration");
+    }
     EnterStand();
   }
   return JointCommand::Track(target);
@@ -250,7 +308,7 @@ void Controller::Publish() {
     s.tick = tick_;
     s.time = static_cast<double>(tick_) * a1::kControlDt;
     s.mode = mode_;
-    s.skill = mode_ == flsd_msgs_MODE_SKILL ? skill_ : -1;
+    s.skill = skill_;
     s.faults = latched_faults_;
     s.fault_message = fault_message_;
     s.safety_trips = safety_trips_;

@@ -1,5 +1,6 @@
 #pragma once
-// The control tick: modes (Idle, Stand, Skill k, Damp), the policy, and the safety supervisor,
+// The control tick: modes (Idle, Stand, Skill k, Velocity, Navigate, Damp), the policies (a skill,
+// or the selector over the skills for a velocity command), and the safety supervisor,
 // in front of a Backend. Tick() runs on the control thread and allocates nothing; requests come
 // from the request thread through Submit(), and status() is a consistent copy for any thread.
 
@@ -8,6 +9,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 
 #include "flsd_msgs.h"
 #include "robot/backend.h"
@@ -53,14 +55,20 @@ struct ControllerStatus {
 
 // What the request side asks of the controller.
 struct ControlRequest {
-  enum class Kind { kStand, kSkill, kStop, kDamp, kReset };
+  // kVelocity starts a velocity task (track_velocity, or navigate with `navigate` set);
+  // kVelocityUpdate changes the command of the running velocity task `request_id` (the navigator's
+  // steering), and is ignored once that task has ended.
+  enum class Kind { kStand, kSkill, kVelocity, kVelocityUpdate, kStop, kDamp, kReset };
   Kind kind = Kind::kStand;
   int skill = 0;
-  double duration = 0.0;  // s, kSkill
+  double duration = 0.0;  // s, kSkill and kVelocity
+  std::array<double, 3> velocity{};  // kVelocity, kVelocityUpdate: vx, vy (m/s), wz (rad/s), body frame
+  bool navigate = false;             // kVelocity: a navigation's task
   ClientId client_id{};
   uint64_t request_id = 0;
   flsd_msgs_TaskState stop_state = flsd_msgs_TASK_CANCELLED;  // kStop: how the current task ends
-  FixedText reason{};  // kStop, kDamp: why, for the task's message
+  bool only_this_task = false;  // kStop: end the running task only if it is request_id's
+  FixedText reason{};  // kStop, kDamp: why, for the task's message; kVelocityUpdate: progress
 };
 
 class Controller {
@@ -84,6 +92,8 @@ class Controller {
   bool WaitForTickAfter(uint64_t tick, std::chrono::nanoseconds timeout, ControllerStatus& out) const;
 
   const SkillLibrary& library() const { return library_; }
+  // Whether track_velocity and navigate can run: the library carries a skill selector.
+  bool has_selector() const { return hierarchy_.has_value(); }
   const ServerConfig& config() const { return config_; }
   bool backend_can_reset() const { return backend_.CanReset(); }
 
@@ -98,6 +108,9 @@ class Controller {
   void EndTask(flsd_msgs_TaskState state, const char* message);
   JointCommand StandCommand();
   JointCommand SkillCommand();
+  JointCommand VelocityCommand();
+  // Checks and applies a policy's joint action; counts the task's time down.
+  JointCommand PolicyCommand();
   JointCommand DampCommand() const { return JointCommand::Damp(config_.safety.damping_kd); }
   bool MotorsActive() const;
   void Publish();
@@ -107,6 +120,7 @@ class Controller {
   ServerConfig config_;
   SafetySupervisor supervisor_;
   PolicyRunner runner_;
+  std::optional<HierarchicalPolicy> hierarchy_;  // when the library has a selector
 
   // Control-thread state.
   RobotState state_;
@@ -123,10 +137,13 @@ class Controller {
   int stand_ticks_ = 0;
   int stand_move_ticks_ = 1;   // moving the targets to the default pose
   int stand_total_ticks_ = 1;  // then holding them while the robot settles
-  int pending_skill_ = -1;  // to start once standing
-  int pending_skill_ticks_ = 0;
-  int skill_ = -1;
-  int skill_ticks_left_ = 0;
+  // What starts once standing: a skill, or a velocity task; kIdle for nothing.
+  flsd_msgs_Mode pending_mode_ = flsd_msgs_MODE_IDLE;
+  int pending_skill_ = -1;
+  int pending_ticks_ = 0;
+  int skill_ = -1;  // the skill running (chosen by the selector in the velocity modes)
+  int task_ticks_left_ = 0;
+  std::array<double, 3> velocity_command_{};
   std::array<float, kMotionObsSize> motion_obs_{};
   std::array<float, kActionSize> action_{}, previous_action_{};
   std::vector<float> policy_obs_;  // sized once, at construction

@@ -41,7 +41,8 @@ DdsService::DdsService(const ServerConfig& config, Controller& controller, const
     : controller_(controller),
       loop_(loop),
       backend_name_(std::move(backend_name)),
-      handler_(controller, config),
+      navigator_(controller.has_selector() ? std::make_unique<Navigator>(controller, config.navigation) : nullptr),
+      handler_(controller, config, navigator_.get()),
       skills_(MakeSkillInfos(controller.library())),
       domain_(config.domain_id, config.partition),
       replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
@@ -171,6 +172,11 @@ void DdsService::PublishState() {
     m.task.elapsed = s.task.elapsed;
     m.task.remaining = s.task.remaining;
     m.task.message = s.task.message.data();
+    std::vector<double> path;
+    if (navigator_ && std::string(s.task.call.data()) == "navigate") path = navigator_->Path();
+    m.task.path._buffer = path.data();
+    m.task.path._length = m.task.path._maximum = static_cast<uint32_t>(path.size());
+    m.task.path._release = false;
     try {
       states_.Write(m);
     } catch (const dds::Error& e) {

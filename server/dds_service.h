@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -38,6 +39,7 @@ class DdsService {
   Controller& controller_;
   const ControlLoop& loop_;
   std::string backend_name_;
+  std::unique_ptr<Navigator> navigator_;  // when the library has a skill selector
   std::mutex handler_mutex_;  // the listener and the poll thread share the handler
   RequestHandler handler_;
   std::vector<flsd_msgs_SkillInfo> skills_;

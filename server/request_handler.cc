@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "comm/protocol.h"
+#include "core/check.h"
 
 namespace flsd {
 namespace {
@@ -30,10 +31,18 @@ std::string Seconds(double s) {
   return text;
 }
 
+// Empty if `duration` is in (0, max].
+std::string DurationError(double duration, double max) {
+  if (std::isfinite(duration) && duration > 0.0 && duration <= max) return "";
+  return "duration must be in (0, " + Seconds(max) + "], got " + std::to_string(duration);
+}
+
 }  // namespace
 
-RequestHandler::RequestHandler(Controller& controller, const ServerConfig& config)
-    : controller_(controller), config_(config), lease_(config.lease_timeout) {}
+RequestHandler::RequestHandler(Controller& controller, const ServerConfig& config, Navigator* navigator)
+    : controller_(controller), config_(config), navigator_(navigator), lease_(config.lease_timeout) {
+  if (!config.navigation.map.empty()) default_map_ = Map2D::Load(config.navigation.map);
+}
 
 RequestHandler::ClientState& RequestHandler::Client(const std::string& id, double now) {
   auto it = clients_.find(id);
@@ -167,15 +176,6 @@ ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const st
 ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std::string& client_id, double now) {
   const std::string call = request.call;
   const ControllerStatus status = controller_.status();
-  const bool latched = status.faults != 0;
-  auto check_duration = [&](std::string& why) {
-    if (!std::isfinite(request.duration) || request.duration <= 0.0 || request.duration > config_.max_duration) {
-      why = "duration must be in (0, " + Seconds(config_.max_duration) + "], got " + std::to_string(request.duration);
-      return false;
-    }
-    return true;
-  };
-  std::string why;
   ControlRequest control;
   if (call == "execute_skill") {
     const int k = request.skill;
@@ -183,7 +183,9 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
       return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "skill " + std::to_string(k) + " is not in [0, " +
                                                           std::to_string(controller_.library().num_skills()) + ")");
     }
-    if (!check_duration(why)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+    if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
+      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+    }
     const SkillDescriptor& skill = controller_.library().skills()[k];
     if (skill.fell && skill.survival_steps < config_.safety.min_skill_survival) {
       return Reply(flsd_msgs_STATUS_NOT_AVAILABLE,
@@ -191,14 +193,8 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
                        " steps in the library's evaluation (fewer than safety.min_skill_survival = " +
                        std::to_string(config_.safety.min_skill_survival) + "); it is not run");
     }
-    if (latched) {
-      return Reply(flsd_msgs_STATUS_SAFETY_STOP,
-                   std::string("a safety stop is latched (") + status.fault_message.data() + "); call stand first");
-    }
-    if (status.hazards != 0) {
-      char text[192];
-      DescribeFaults(status.hazards, status.state, config_.safety, text, sizeof text, status.backend_fault.data());
-      return Reply(flsd_msgs_STATUS_SAFETY_STOP, std::string("cannot start a skill: ") + text);
+    if (const std::string blocked = MotionBlocked(status); !blocked.empty()) {
+      return Reply(flsd_msgs_STATUS_SAFETY_STOP, blocked);
     }
     control.kind = ControlRequest::Kind::kSkill;
     control.skill = k;
@@ -209,17 +205,7 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
     return Reply(flsd_msgs_STATUS_OK, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
                                           " accepted; progress is on the state topic");
   }
-  if (call == "track_velocity" || call == "navigate") {
-    if (call == "track_velocity" && !AllFinite(request.velocity, 3)) {
-      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "velocity must be finite");
-    }
-    if (call == "track_velocity" && !check_duration(why)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
-    if (call == "navigate" && !AllFinite(request.goal, 2)) {
-      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "goal must be finite");
-    }
-    return Reply(flsd_msgs_STATUS_NOT_AVAILABLE,
-                 call + " is not available: it needs a skill selector, and this server has none yet");
-  }
+  if (call == "track_velocity" || call == "navigate") return Velocity(request, client_id);
   if (call == "reset" && !controller_.backend_can_reset()) {
     return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "this backend cannot reset the robot; stand it up by hand");
   }
@@ -238,6 +224,88 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
     return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
   }
   return Reply(flsd_msgs_STATUS_OK, call == "stand" ? "standing" : call == "stop" ? "stopping; the robot stands" : "reset");
+}
+
+std::string RequestHandler::MotionBlocked(const ControllerStatus& status) const {
+  if (status.faults != 0) {
+    return std::string("a safety stop is latched (") + status.fault_message.data() + "); call stand first";
+  }
+  if (status.hazards != 0) {
+    char text[192];
+    DescribeFaults(status.hazards, status.state, config_.safety, text, sizeof text, status.backend_fault.data());
+    return std::string("cannot start moving: ") + text;
+  }
+  return "";
+}
+
+ReplyContent RequestHandler::Velocity(const flsd_msgs_Request& request, const std::string& client_id) {
+  const std::string call = request.call;
+  if (!controller_.has_selector()) {
+    return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, call + " is not available: the skill library " +
+                                                     controller_.library().path() +
+                                                     " has no skill selector (flsd export-selector adds one)");
+  }
+  ControlRequest control;
+  control.kind = ControlRequest::Kind::kVelocity;
+  std::string accepted;
+  std::optional<NavigationJob> job;
+  if (call == "track_velocity") {
+    if (!AllFinite(request.velocity, 3)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "velocity must be finite");
+    if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
+      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+    }
+    std::copy(request.velocity, request.velocity + 3, control.velocity.begin());
+    control.duration = request.duration;
+    const SelectorNetwork& selector = *controller_.library().selector();
+    char text[256];
+    std::snprintf(text, sizeof text, "velocity (%.2f m/s, %.2f m/s, %.2f rad/s) for %s accepted", control.velocity[0],
+                  control.velocity[1], control.velocity[2], Seconds(request.duration).c_str());
+    accepted = text;
+    for (int a = 0; a < 3; ++a) {
+      const double clipped = std::clamp(control.velocity[a], selector.command_min[a], selector.command_max[a]);
+      if (clipped != control.velocity[a]) {
+        static const char* const kAxes[] = {"vx", "vy", "wz"};
+        std::snprintf(text, sizeof text, "; %s clipped to %.2f, the edge of the trained range [%.2f, %.2f]", kAxes[a],
+                      clipped, selector.command_min[a], selector.command_max[a]);
+        accepted += text;
+      }
+    }
+  } else {
+    if (navigator_ == nullptr) return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "navigate is not available on this server");
+    if (!AllFinite(request.goal, 2)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "goal must be finite");
+    job.emplace();
+    job->goal = Eigen::Vector2d(request.goal[0], request.goal[1]);
+    const std::string map_yaml = request.map_yaml != nullptr ? request.map_yaml : "";
+    if (!map_yaml.empty()) {
+      try {
+        job->map = Map2D::Parse(map_yaml, "the request's map");
+      } catch (const InputError& e) {
+        return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, e.what());
+      }
+    } else if (default_map_) {
+      job->map = *default_map_;
+    } else {
+      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT,
+                   "no map: send one with the request, or name one in the server config (navigation.map)");
+    }
+    control.navigate = true;
+    control.duration = config_.navigation.timeout + 1.0;  // the navigator times out first, with a message
+    char text[192];
+    std::snprintf(text, sizeof text, "navigation to (%.2f, %.2f) accepted; planning", job->goal.x(), job->goal.y());
+    accepted = text;
+  }
+  if (const std::string blocked = MotionBlocked(controller_.status()); !blocked.empty()) {
+    return Reply(flsd_msgs_STATUS_SAFETY_STOP, blocked);
+  }
+  if (!Submit(control, client_id, request.header.request_id)) {
+    return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+  }
+  if (job) {
+    SetText(job->client_id, client_id.c_str());
+    job->request_id = request.header.request_id;
+    navigator_->Start(std::move(*job));
+  }
+  return Reply(flsd_msgs_STATUS_OK, accepted + "; progress is on the state topic");
 }
 
 bool RequestHandler::Submit(ControlRequest request, const std::string& client_id, uint64_t request_id) {

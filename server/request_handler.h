@@ -12,6 +12,7 @@
 #include "flsd_msgs.h"
 #include "server/controller.h"
 #include "server/lease.h"
+#include "server/navigator.h"
 
 namespace flsd {
 
@@ -24,7 +25,9 @@ struct ReplyContent {
 
 class RequestHandler {
  public:
-  RequestHandler(Controller& controller, const ServerConfig& config);
+  // `navigator` (may be null: navigate is then not available) must outlive the handler. The
+  // default map (config.navigation.map) is read here; InputError if it is bad.
+  RequestHandler(Controller& controller, const ServerConfig& config, Navigator* navigator = nullptr);
 
   // `now`: monotonic seconds; `wall_ns`: CLOCK_REALTIME ns (request deadlines are wall times).
   // nullopt: dropped by the rate limit (counted in dropped()).
@@ -52,11 +55,16 @@ class RequestHandler {
   bool TakeToken(ClientState& client, double now);
   ReplyContent Dispatch(const flsd_msgs_Request& request, const std::string& client_id, double now);
   ReplyContent Motion(const flsd_msgs_Request& request, const std::string& client_id, double now);
+  ReplyContent Velocity(const flsd_msgs_Request& request, const std::string& client_id);
+  // Why the robot cannot start moving now (a latched stop, a hazard), or empty.
+  std::string MotionBlocked(const ControllerStatus& status) const;
   bool Submit(ControlRequest request, const std::string& client_id, uint64_t request_id);
   std::string StatusText(const ControllerStatus& status) const;
 
   Controller& controller_;
   ServerConfig config_;
+  Navigator* navigator_;
+  std::optional<Map2D> default_map_;
   ControlLease lease_;
   std::unordered_map<std::string, ClientState> clients_;
   uint64_t dropped_ = 0;

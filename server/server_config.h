@@ -7,6 +7,7 @@
 #include "core/config.h"
 #include "hw/hw_backend.h"
 #include "robot/a1.h"
+#include "server/navigation/waypoint_follower.h"
 #include "sim/sim_backend.h"
 
 namespace flsd {
@@ -37,6 +38,25 @@ struct SafetyConfig {
   }
 };
 
+// navigate: the map used when a request brings none, how long to plan, how to follow.
+struct NavigationConfig {
+  std::string map;                 // YAML map file (server/navigation/map2d.h); empty: requests must send one
+  double planning_time = 0.5;      // s of OMPL planning per (re)plan
+  double waypoint_spacing = 0.5;   // m between waypoints at most
+  double timeout = 120.0;          // s a navigation may take, standing up included
+  double rate_hz = 20.0;           // how often the follower steers
+  FollowerConfig follower;
+  template <class V>
+  void Visit(V& v) {
+    v("map", map);
+    v("planning_time", planning_time, Bounds<double>{0.01, 30.0});
+    v("waypoint_spacing", waypoint_spacing, Bounds<double>{0.05, 10.0});
+    v("timeout", timeout, Bounds<double>{1.0, 86400.0});
+    v("rate_hz", rate_hz, Bounds<double>{1.0, 50.0});
+    v("follower", follower);
+  }
+};
+
 struct ServerConfig {
   int domain_id = 0;
   std::string partition = "flsd";  // several robots share a domain by partition
@@ -50,6 +70,7 @@ struct ServerConfig {
   int control_priority = 80;  // SCHED_FIFO priority of the control loop; 0: the normal scheduler
   int cpu_latency_us = 0;     // /dev/cpu_dma_latency while serving (0: idle CPUs poll); -1: untouched
   SafetyConfig safety;
+  NavigationConfig navigation;
   SimBackendConfig sim;
   hw::HwConfig hw;
   template <class V>
@@ -66,6 +87,7 @@ struct ServerConfig {
     v("control_priority", control_priority, Bounds<int>{0, 99});
     v("cpu_latency_us", cpu_latency_us, Bounds<int>{-1, 1000000});
     v("safety", safety);
+    v("navigation", navigation);
     v("sim", sim);
     v("hw", hw);
   }

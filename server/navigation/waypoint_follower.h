@@ -7,6 +7,8 @@
 
 #include <vector>
 
+#include "core/config.h"
+
 namespace flsd {
 
 struct FollowerConfig {
@@ -16,6 +18,15 @@ struct FollowerConfig {
   double heading_gain = 1.5;     // rad/s per rad of heading error
   double goal_tolerance = 0.25;  // m from the last waypoint counts as reached
   double replan_distance = 0.75;  // m off the path: plan again
+  template <class V>
+  void Visit(V& v) {
+    v("lookahead", lookahead, Bounds<double>{0.05, 10.0});
+    v("max_speed", max_speed, Bounds<double>{0.05, 5.0});
+    v("max_turn_rate", max_turn_rate, Bounds<double>{0.05, 10.0});
+    v("heading_gain", heading_gain, Bounds<double>{0.0, 100.0});
+    v("goal_tolerance", goal_tolerance, Bounds<double>{0.01, 10.0});
+    v("replan_distance", replan_distance, Bounds<double>{0.05, 100.0});
+  }
 };
 
 struct FollowerCommand {

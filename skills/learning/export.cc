@@ -4,9 +4,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/check.h"
 #include "flsd_commit.h"
 #include "robot/observation.h"
+#include "skills/learning/task_trainer.h"
+#include "skills/learning/tracking_eval.h"
 #include "skills/runtime/safetensors.h"
+#include "skills/runtime/skill_library.h"
 
 namespace flsd {
 namespace {
@@ -129,6 +133,73 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path) {
           {"iteration", policy.iteration},
           {"skills_surviving_500_steps", evaluation.survivors},
           {"state_coverage_rate", evaluation.coverage.rate}};
+}
+
+nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path) {
+  namespace fs = std::filesystem;
+  const std::string config_file = (fs::path(run_dir) / "config.yaml").string();
+  const TaskTrainConfig config = LoadTaskTrainConfig(config_file);
+  if (ParseTaskMethod(config.method) != TaskMethod::kSelector) {
+    throw InputError(config_file + ": method is '" + config.method + "'; only a selector run can be exported");
+  }
+  const SkillLibrary base = SkillLibrary::Load(config.library);
+  const TrainedSelector selector =
+      LoadTrainedSelector(config, base.num_skills(), (fs::path(run_dir) / "checkpoint.pt").string());
+  if (selector.library_fingerprint != base.fingerprint()) {
+    throw InputError(run_dir + ": the selector was trained over a library with fingerprint " +
+                     selector.library_fingerprint + ", but " + config.library + " now has " + base.fingerprint());
+  }
+
+  SafeTensors file = ReadSafeTensors(config.library);
+  nlohmann::json metadata = base.metadata();
+  int layer = 0;
+  for (const auto& module : selector.policy->actor()->children()) {
+    if (const auto* linear = module->as<torch::nn::Linear>()) {
+      const std::string name = "selector.layer" + std::to_string(layer++);
+      file.tensors[name + ".weight"] = ToFloatTensor(linear->weight);
+      file.tensors[name + ".bias"] = ToFloatTensor(linear->bias);
+    }
+  }
+  file.tensors["selector.normalizer.mean"] = ToFloatTensor(selector.normalizer->mean());
+  file.tensors["selector.normalizer.std"] = ToFloatTensor(selector.normalizer->Std());
+  const VelocityCommandConfig& commands = config.task.commands;
+  metadata["selector"] = {
+      {"hidden", config.policy.actor_hidden},
+      {"activation", "elu"},
+      {"layers", config.policy.actor_hidden.size() + 1},
+      {"observation",
+       {{"motion", kMotionObsSize},
+        {"command", kCommandSize},
+        {"command_scale", {kMotionObsLayout[0].scale, kMotionObsLayout[0].scale, kMotionObsLayout[1].scale}}}},
+      {"commands",
+       {{"vx", {commands.vx.lo, commands.vx.hi}}, {"vy", {commands.vy.lo, commands.vy.hi}},
+        {"wz", {commands.wz.lo, commands.wz.hi}}}},
+      {"training",
+       {{"iteration", selector.iteration},
+        {"env_steps", selector.env_steps},
+        {"config", ToYamlString(config)},
+        {"run", run_dir},
+        {"commits", ReadCommits((fs::path(run_dir) / "commits").string())},
+        {"export_commit", FLSD_GIT_COMMIT}}},
+  };
+  // Evaluated through the file as skilld will read it: written once without the evaluation,
+  // loaded and run with Eigen, then written with it.
+  const std::string unevaluated = path + ".unevaluated";
+  file.metadata["flsd"] = metadata.dump();
+  WriteSafeTensors(unevaluated, file);
+  TrackingEvaluation tracking;
+  try {
+    tracking = EvaluateTracking(SkillLibrary::Load(unevaluated), config.env, 10.0, 2.0, config.seed);
+  } catch (...) {
+    fs::remove(unevaluated);
+    throw;
+  }
+  fs::remove(unevaluated);
+  metadata["selector"]["evaluation"] = TrackingJson(tracking);
+  file.metadata["flsd"] = metadata.dump();
+  WriteSafeTensors(path, file);
+  return {{"library", path}, {"base_library", config.library}, {"iteration", selector.iteration},
+          {"tracking", TrackingJson(tracking)}};
 }
 
 }  // namespace flsd

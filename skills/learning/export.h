@@ -34,4 +34,9 @@ void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const
 // Loads a run, evaluates it without randomisation, and writes its library to `path`.
 nlohmann::json ExportRun(const std::string& run_dir, const std::string& path);
 
+// Adds a selector run's (flsd train-selector) selector to the library it was trained over and
+// writes the result to `path` (which may be that library itself). Refuses if the library changed
+// since training. The selector's tracking evaluation (tracking_eval.h) goes into its metadata.
+nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path);
+
 }  // namespace flsd

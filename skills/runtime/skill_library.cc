@@ -1,5 +1,6 @@
 #include "skills/runtime/skill_library.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -56,6 +57,8 @@ class MetadataChecker {
     const std::string got = Get<std::string>(pointer);
     if (got != expected) Fail(pointer, "is '" + got + "' but this build expects '" + expected + "'");
   }
+  bool Has(const std::string& pointer) const { return root_.contains(nlohmann::json::json_pointer(pointer)); }
+  const std::string& path() const { return path_; }
   [[noreturn]] void Fail(const std::string& pointer, const std::string& what) const {
     throw InputError(path_ + ": skill library field " + pointer + " " + what);
   }
@@ -97,6 +100,41 @@ std::string FileFingerprint(const std::string& path) {
   char text[17];
   std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
   return text;
+}
+
+// The network stored under tensors `layer_prefix`layer<l>.{weight,bias} and
+// `normalizer_prefix`{mean,std}, described by metadata at `at` (hidden, layers, activation).
+DenseNetwork ReadNetwork(const SafeTensors& file, const MetadataChecker& m, const std::string& at,
+                         const std::string& layer_prefix, const std::string& normalizer_prefix, int inputs,
+                         int outputs, int normalized) {
+  const std::string& path = m.path();
+  m.ExpectString(at + "/activation", "elu");
+  const std::vector<int> hidden = m.Get<std::vector<int>>(at + "/hidden");
+  m.ExpectNumber(at + "/layers", static_cast<double>(hidden.size() + 1));
+  DenseNetwork net;
+  int width = inputs;
+  for (size_t l = 0; l <= hidden.size(); ++l) {
+    const int out = l < hidden.size() ? hidden[l] : outputs;
+    const std::string name = layer_prefix + "layer" + std::to_string(l);
+    const FloatTensor& w = Tensor(file, path, name + ".weight", {out, width});
+    const FloatTensor& b = Tensor(file, path, name + ".bias", {out});
+    DenseLayer layer;
+    layer.weight = Eigen::Map<const RowMatrixXf>(w.values.data(), out, width);
+    layer.bias = Eigen::Map<const Eigen::VectorXf>(b.values.data(), out);
+    net.layers.push_back(std::move(layer));
+    width = out;
+  }
+  const std::string mean = normalizer_prefix + "mean", std = normalizer_prefix + "std";
+  net.normalizer_mean = Eigen::Map<const Eigen::VectorXf>(Tensor(file, path, mean, {normalized}).values.data(), normalized);
+  net.normalizer_std = Eigen::Map<const Eigen::VectorXf>(Tensor(file, path, std, {normalized}).values.data(), normalized);
+  if ((net.normalizer_std.array() <= 0.0f).any()) {
+    throw InputError(path + ": tensor '" + std + "' has a value that is not positive");
+  }
+  return net;
+}
+
+std::vector<double> CommandScale() {
+  return {kMotionObsLayout[0].scale, kMotionObsLayout[0].scale, kMotionObsLayout[1].scale};
 }
 
 std::vector<double> DefaultPose() { return {a1::kDefaultJointPos.begin(), a1::kDefaultJointPos.end()}; }
@@ -167,26 +205,24 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   m.ExpectNumber("/limits/joint_velocity", a1::kJointVelocityLimit);
   m.ExpectString("/policy/activation", "elu");
 
-  // The network: layer shapes must chain from o^p to the 12 actions.
-  const std::vector<int> hidden = m.Get<std::vector<int>>("/policy/hidden");
-  m.ExpectNumber("/policy/layers", static_cast<double>(hidden.size() + 1));
-  int inputs = lib.policy_obs_size_;
-  for (size_t l = 0; l <= hidden.size(); ++l) {
-    const int outputs = l < hidden.size() ? hidden[l] : kActionSize;
-    const std::string name = "policy.layer" + std::to_string(l);
-    const FloatTensor& w = Tensor(file, path, name + ".weight", {outputs, inputs});
-    const FloatTensor& b = Tensor(file, path, name + ".bias", {outputs});
-    DenseLayer layer;
-    layer.weight = Eigen::Map<const RowMatrixXf>(w.values.data(), outputs, inputs);
-    layer.bias = Eigen::Map<const Eigen::VectorXf>(b.values.data(), outputs);
-    lib.layers_.push_back(std::move(layer));
-    inputs = outputs;
-  }
-  const int normalized = kMotionObsSize + kActionSize;
-  lib.normalizer_mean_ = Eigen::Map<const Eigen::VectorXf>(Tensor(file, path, "normalizer.mean", {normalized}).values.data(), normalized);
-  lib.normalizer_std_ = Eigen::Map<const Eigen::VectorXf>(Tensor(file, path, "normalizer.std", {normalized}).values.data(), normalized);
-  if ((lib.normalizer_std_.array() <= 0.0f).any()) {
-    throw InputError(path + ": tensor 'normalizer.std' has a value that is not positive");
+  lib.policy_ = ReadNetwork(file, m, "/policy", "policy.", "normalizer.", lib.policy_obs_size_, kActionSize,
+                            kMotionObsSize + kActionSize);
+  if (m.Has("/selector")) {
+    SelectorNetwork selector;
+    m.ExpectNumber("/selector/observation/motion", kMotionObsSize);
+    m.ExpectNumber("/selector/observation/command", kCommandSize);
+    m.ExpectNumbers("/selector/observation/command_scale", CommandScale());
+    selector.network = ReadNetwork(file, m, "/selector", "selector.", "selector.normalizer.", kTaskObsSize,
+                                   lib.num_skills_, kTaskObsSize);
+    const char* axes[3] = {"vx", "vy", "wz"};
+    for (int a = 0; a < 3; ++a) {
+      const std::string at = std::string("/selector/commands/") + axes[a];
+      const auto range = m.Get<std::vector<double>>(at);
+      if (range.size() != 2 || !(range[0] <= range[1])) m.Fail(at, "must be [min, max] with min <= max");
+      selector.command_min[a] = range[0];
+      selector.command_max[a] = range[1];
+    }
+    lib.selector_ = std::move(selector);
   }
 
   const nlohmann::json& skills = m.At("/skills");
@@ -212,18 +248,18 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   return lib;
 }
 
-PolicyRunner::PolicyRunner(const SkillLibrary& library) : library_(library) {
-  activations_.emplace_back(Eigen::VectorXf::Zero(library.policy_obs_size()));
-  for (const DenseLayer& layer : library.policy_layers()) activations_.emplace_back(Eigen::VectorXf::Zero(layer.bias.size()));
+NetworkRunner::NetworkRunner(const DenseNetwork& network) : network_(network) {
+  activations_.emplace_back(Eigen::VectorXf::Zero(network.inputs()));
+  for (const DenseLayer& layer : network.layers) activations_.emplace_back(Eigen::VectorXf::Zero(layer.bias.size()));
 }
 
-void PolicyRunner::Act(const float* policy_obs, float* action) {
+void NetworkRunner::Run(const float* input, float* output) {
   Eigen::VectorXf& x = activations_[0];
-  const int normalized = static_cast<int>(library_.normalizer_mean().size());
-  const Eigen::Map<const Eigen::VectorXf> obs(policy_obs, library_.policy_obs_size());
-  x.head(normalized) = (obs.head(normalized) - library_.normalizer_mean()).cwiseQuotient(library_.normalizer_std());
-  x.tail(x.size() - normalized) = obs.tail(x.size() - normalized);
-  const std::vector<DenseLayer>& layers = library_.policy_layers();
+  const int normalized = static_cast<int>(network_.normalizer_mean.size());
+  const Eigen::Map<const Eigen::VectorXf> in(input, x.size());
+  x.head(normalized) = (in.head(normalized) - network_.normalizer_mean).cwiseQuotient(network_.normalizer_std);
+  x.tail(x.size() - normalized) = in.tail(x.size() - normalized);
+  const std::vector<DenseLayer>& layers = network_.layers;
   for (size_t l = 0; l < layers.size(); ++l) {
     Eigen::VectorXf& y = activations_[l + 1];
     y.noalias() = layers[l].weight * activations_[l];
@@ -233,7 +269,43 @@ void PolicyRunner::Act(const float* policy_obs, float* action) {
       y = y.unaryExpr([](float v) { return v > 0.0f ? v : std::expm1(v); });
     }
   }
-  Eigen::Map<Eigen::VectorXf>(action, kActionSize) = activations_.back();
+  Eigen::Map<Eigen::VectorXf>(output, activations_.back().size()) = activations_.back();
+}
+
+namespace {
+const DenseNetwork& SelectorOf(const SkillLibrary& library) {
+  if (!library.selector()) {
+    throw InputError(library.path() + ": the library has no skill selector (train one with flsd train-selector, "
+                     "then add it with flsd export-selector)");
+  }
+  return library.selector()->network;
+}
+}  // namespace
+
+HierarchicalPolicy::HierarchicalPolicy(const SkillLibrary& library)
+    : library_(library),
+      selector_(SelectorOf(library)),
+      policy_(library),
+      task_obs_(kTaskObsSize),
+      logits_(library.num_skills()),
+      policy_obs_(library.policy_obs_size()) {}
+
+std::array<double, 3> HierarchicalPolicy::Clip(const double* command) const {
+  const SelectorNetwork& s = *library_.selector();
+  std::array<double, 3> clipped;
+  for (int a = 0; a < 3; ++a) clipped[a] = std::clamp(command[a], s.command_min[a], s.command_max[a]);
+  return clipped;
+}
+
+int HierarchicalPolicy::Act(const float* motion_obs, const double* command, const float* previous_action,
+                            float* action) {
+  const std::array<double, 3> clipped = Clip(command);
+  BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
+  selector_.Run(task_obs_.data(), logits_.data());
+  const int skill = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
+  BuildPolicyObservation(motion_obs, previous_action, skill, library_.num_skills(), policy_obs_.data());
+  policy_.Act(policy_obs_.data(), action);
+  return skill;
 }
 
 }  // namespace flsd

@@ -6,6 +6,8 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,22 @@ struct DenseLayer {
   Eigen::VectorXf bias;
 };
 
+// A network as the library stores it: the first normalizer_mean.size() inputs are normalised
+// ((x - mean) / std), the rest pass as they are; ELU between layers, a linear output.
+struct DenseNetwork {
+  std::vector<DenseLayer> layers;
+  Eigen::VectorXf normalizer_mean, normalizer_std;
+  int inputs() const { return static_cast<int>(layers.front().weight.cols()); }
+  int outputs() const { return static_cast<int>(layers.back().bias.size()); }
+};
+
+// The velocity-tracking skill selector (optional in a library): a categorical policy over the
+// skills whose input is o^c (robot/observation.h), and the command ranges it was trained on.
+struct SelectorNetwork {
+  DenseNetwork network;
+  std::array<double, 3> command_min{}, command_max{};  // vx, vy, wz
+};
+
 class SkillLibrary {
  public:
   // Reads and validates `path`. Throws InputError naming the file and the first field that is
@@ -37,9 +55,9 @@ class SkillLibrary {
 
   int num_skills() const { return num_skills_; }
   int policy_obs_size() const { return policy_obs_size_; }
-  const std::vector<DenseLayer>& policy_layers() const { return layers_; }
-  const Eigen::VectorXf& normalizer_mean() const { return normalizer_mean_; }
-  const Eigen::VectorXf& normalizer_std() const { return normalizer_std_; }
+  const DenseNetwork& policy() const { return policy_; }
+  // The skill selector, if the library carries one (flsd export-selector).
+  const std::optional<SelectorNetwork>& selector() const { return selector_; }
   const std::vector<SkillDescriptor>& skills() const { return skills_; }
   const nlohmann::json& metadata() const { return metadata_; }
   const std::string& path() const { return path_; }
@@ -52,23 +70,53 @@ class SkillLibrary {
   nlohmann::json metadata_;
   int num_skills_ = 0;
   int policy_obs_size_ = 0;
-  std::vector<DenseLayer> layers_;
-  Eigen::VectorXf normalizer_mean_, normalizer_std_;
+  DenseNetwork policy_;
+  std::optional<SelectorNetwork> selector_;
   std::vector<SkillDescriptor> skills_;
 };
 
-// Runs a library's policy, one observation at a time, into buffers allocated at construction:
-// Act() does no heap allocation. Holds a reference to `library`, which must outlive it.
+// Runs a DenseNetwork on one input at a time, into buffers allocated at construction: Run()
+// does no heap allocation. Holds a reference to `network`, which must outlive it.
+class NetworkRunner {
+ public:
+  explicit NetworkRunner(const DenseNetwork& network);
+  // input: network.inputs() floats (raw, before normalisation); output: network.outputs().
+  void Run(const float* input, float* output);
+
+ private:
+  const DenseNetwork& network_;
+  std::vector<Eigen::VectorXf> activations_;  // one per layer output, plus the normalised input
+};
+
+// The library's skill policy. Holds a reference to `library`, which must outlive it.
 class PolicyRunner {
  public:
-  explicit PolicyRunner(const SkillLibrary& library);
-
+  explicit PolicyRunner(const SkillLibrary& library) : runner_(library.policy()) {}
   // policy_obs: the raw o^p (PolicyObservationSize floats, robot/observation.h); action: 12.
-  void Act(const float* policy_obs, float* action);
+  void Act(const float* policy_obs, float* action) { runner_.Run(policy_obs, action); }
+
+ private:
+  NetworkRunner runner_;
+};
+
+// The selector over the skills, as the paper runs it (Sec. IV-C): each control step the most
+// probable skill for (o^m, command) is chosen, and the skill policy acts under it. No heap
+// allocation per step. Throws InputError if the library has no selector.
+class HierarchicalPolicy {
+ public:
+  explicit HierarchicalPolicy(const SkillLibrary& library);
+
+  // `command` (vx, vy, wz) is clipped to the trained ranges first. Writes the 12 joint actions
+  // and returns the chosen skill.
+  int Act(const float* motion_obs, const double* command, const float* previous_action, float* action);
+  // The command as the selector sees it: clipped to the ranges it was trained on.
+  std::array<double, 3> Clip(const double* command) const;
 
  private:
   const SkillLibrary& library_;
-  std::vector<Eigen::VectorXf> activations_;  // one per layer output, plus the normalised input
+  NetworkRunner selector_;
+  PolicyRunner policy_;
+  std::vector<float> task_obs_, logits_, policy_obs_;
 };
 
 }  // namespace flsd

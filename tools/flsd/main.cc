@@ -69,6 +69,11 @@ int main(int argc, char** argv) {
   export_cmd->add_option("run", run_dir, "Run folder")->required();
   export_cmd->add_option("-o,--output", library_path, "Library file to write")->required();
 
+  CLI::App* export_selector_cmd =
+      app.add_subcommand("export-selector", "Add a selector run's skill selector to its skill library");
+  export_selector_cmd->add_option("run", run_dir, "Selector run folder (flsd train-selector)")->required();
+  export_selector_cmd->add_option("-o,--output", library_path, "Library file to write")->required();
+
   CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks that print JSON");
   bench_cmd->require_subcommand(1);
   flsd::SimBenchOptions sim;
@@ -140,6 +145,11 @@ int main(int argc, char** argv) {
     if (*export_cmd) {
       flsd::ConfigureTorchThreads(0);
       std::printf("%s\n", flsd::ExportRun(run_dir, library_path).dump(2).c_str());
+      return 0;
+    }
+    if (*export_selector_cmd) {
+      flsd::ConfigureTorchThreads(0);
+      std::printf("%s\n", flsd::ExportSelector(run_dir, library_path).dump(2).c_str());
       return 0;
     }
     if (*sim_cmd) {

@@ -1,0 +1,170 @@
+#include "server/navigator.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace flsd {
+namespace {
+
+double Yaw(const Eigen::Quaterniond& q) {
+  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+}
+
+std::string Format(const char* format, double a, double b = 0.0, double c = 0.0) {
+  char text[192];
+  std::snprintf(text, sizeof text, format, a, b, c);
+  return text;
+}
+
+bool IsOurs(const ControllerStatus& s, const NavigationJob& job) {
+  return s.task.state == flsd_msgs_TASK_RUNNING && s.task.request_id == job.request_id &&
+         s.task.client_id == job.client_id;
+}
+
+}  // namespace
+
+Navigator::Navigator(Controller& controller, const NavigationConfig& config)
+    : controller_(controller), config_(config), thread_([this] { Run(); }) {}
+
+Navigator::~Navigator() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    quit_ = true;
+    ++generation_;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void Navigator::Start(NavigationJob job) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    next_ = std::move(job);
+    ++generation_;
+  }
+  wake_.notify_all();
+}
+
+std::vector<double> Navigator::Path() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return path_;
+}
+
+bool Navigator::Superseded(uint64_t generation) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return quit_ || generation_ != generation;
+}
+
+void Navigator::Run() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!quit_) {
+    wake_.wait(lock, [&] { return quit_ || next_.has_value(); });
+    if (quit_) break;
+    const NavigationJob job = std::move(*next_);
+    next_.reset();
+    lock.unlock();
+    try {
+      Navigate(job);
+    } catch (const std::exception& e) {  // never let a navigation take the server down
+      Finish(job, flsd_msgs_TASK_CANCELLED, std::string("navigation failed: ") + e.what());
+    }
+    lock.lock();
+    path_.clear();
+  }
+}
+
+bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, PlannedPath& path) {
+  PlannerOptions options;
+  options.time_limit = config_.planning_time;
+  options.waypoint_spacing = config_.waypoint_spacing;
+  path = PlanPath(job.map, from, job.goal, options);
+  if (path.status != PlannedPath::Status::kFound) {
+    Finish(job, flsd_msgs_TASK_NO_PATH, std::string("no path: ") + path.message);
+    return false;
+  }
+  std::vector<double> flat;
+  for (const Eigen::Vector2d& p : path.waypoints) flat.insert(flat.end(), {p.x(), p.y()});
+  std::lock_guard<std::mutex> lock(mutex_);
+  path_ = std::move(flat);
+  return true;
+}
+
+void Navigator::Navigate(const NavigationJob& job) {
+  uint64_t generation;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    generation = generation_;
+  }
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const auto period = std::chrono::duration<double>(1.0 / config_.rate_hz);
+
+  ControllerStatus status = controller_.status();
+  PlannedPath path;
+  if (!Plan(job, status.state.base_position.head<2>(), path)) return;
+  spdlog::info("navigate to ({:.2f}, {:.2f}): {} waypoints, {:.2f} m, planned in {:.0f} ms", job.goal.x(),
+               job.goal.y(), path.waypoints.size(), path.length, 1e3 * path.planning_seconds);
+  WaypointFollower follower(path.waypoints, config_.follower);
+  int replans = 0;
+  bool seen = false;  // the controller applies the task's request at its next tick
+  for (Clock::time_point next = Clock::now(); !Superseded(generation); next += std::chrono::duration_cast<Clock::duration>(period)) {
+    std::this_thread::sleep_until(next);
+    status = controller_.status();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    if (!IsOurs(status, job)) {
+      if (seen || elapsed > 1.0) return;  // ended elsewhere: stop, damp, safety, lease, preemption
+      continue;
+    }
+    seen = true;
+    if (elapsed > config_.timeout) {
+      const double left = (job.goal - status.state.base_position.head<2>()).norm();
+      Finish(job, flsd_msgs_TASK_TIMEOUT, Format("timeout after %.0f s, %.2f m from the goal", elapsed, left));
+      return;
+    }
+    if (status.mode != flsd_msgs_MODE_NAVIGATE) continue;  // still standing up
+    const Eigen::Vector2d position = status.state.base_position.head<2>();
+    const FollowerCommand command = follower.Update(position, Yaw(status.state.base_orientation));
+    if (command.reached) {
+      Finish(job, flsd_msgs_TASK_SUCCEEDED,
+             Format("reached (%.2f, %.2f), %.2f m from the goal", position.x(), position.y(), (job.goal - position).norm()));
+      return;
+    }
+    if (command.off_path) {
+      ++replans;
+      spdlog::info("navigate: {:.2f} m off the path; replanning ({})", command.distance_to_path, replans);
+      if (!Plan(job, position, path)) return;
+      follower = WaypointFollower(path.waypoints, config_.follower);
+      continue;
+    }
+    Steer(job, command.velocity,
+          Format("%.2f m to go along the path, %.0f replans", command.remaining, replans));
+  }
+}
+
+void Navigator::Steer(const NavigationJob& job, const Eigen::Vector3d& velocity, const std::string& progress) {
+  ControlRequest update;
+  update.kind = ControlRequest::Kind::kVelocityUpdate;
+  update.client_id = job.client_id;
+  update.request_id = job.request_id;
+  update.velocity = {velocity.x(), velocity.y(), velocity.z()};
+  SetText(update.reason, progress.c_str());
+  controller_.Submit(update);  // a full queue drops one update; the next one comes within a period
+}
+
+void Navigator::Finish(const NavigationJob& job, flsd_msgs_TaskState state, const std::string& message) {
+  ControlRequest stop;
+  stop.kind = ControlRequest::Kind::kStop;
+  stop.client_id = job.client_id;
+  stop.request_id = job.request_id;
+  stop.only_this_task = true;
+  stop.stop_state = state;
+  SetText(stop.reason, message.c_str());
+  // Urgent: the end of a navigation must not wait behind (or be lost to) a full queue.
+  controller_.SubmitUrgent(stop);
+  spdlog::info("navigate: {}", message);
+}
+
+}  // namespace flsd

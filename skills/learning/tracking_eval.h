@@ -1,0 +1,46 @@
+#pragma once
+// How well a library's selector and skills track velocity commands: each of a fixed set of
+// commands held for some seconds on the simulated A1 without randomisation, run exactly as skilld
+// runs it (HierarchicalPolicy, Eigen). Plain C++: no libtorch.
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "sim/env_config.h"
+#include "skills/runtime/skill_library.h"
+
+namespace flsd {
+
+struct TrackingCase {
+  std::string name;
+  std::array<double, 3> command;  // vx, vy (m/s), wz (rad/s), body frame
+};
+// Stand, forward, backward, left, right, turn left, turn right, forward while turning.
+std::vector<TrackingCase> StandardTrackingCases();
+
+struct TrackingResult {
+  TrackingCase tracked;                  // the command after clipping to the trained ranges
+  std::array<double, 3> achieved{};      // mean body velocity after the settling time
+  double lin_error = 0.0, ang_error = 0.0;  // |achieved - command| in xy, and in wz
+  int steps = 0;                         // control steps run (fewer than asked if it fell)
+  bool fell = false;
+  int skills_used = 0;                   // distinct skills the selector chose
+  double switches_per_s = 0.0;           // how often the chosen skill changed
+};
+
+struct TrackingEvaluation {
+  double seconds = 0.0, settle_seconds = 0.0;
+  std::vector<TrackingResult> cases;
+  double rms_lin_error = 0.0, rms_ang_error = 0.0;  // over the cases
+  int falls = 0;
+};
+
+// Throws InputError if the library has no selector.
+TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env, double seconds,
+                                    double settle_seconds, uint64_t seed);
+nlohmann::json TrackingJson(const TrackingEvaluation& evaluation);
+
+}  // namespace flsd

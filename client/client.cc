@@ -101,6 +101,7 @@ CallResult Client::Call(const std::string& call, const CallArgs& args, std::chro
   std::unique_lock<std::mutex> reply_lock(reply_mutex_);
   reply_arrived_.wait_until(reply_lock, start + timeout, [&] { return reply_ready_.load(); });
   awaited_request_id_ = 0;
+  awaited_result_.request_id = request_id;
   return std::move(awaited_result_);
 }
 

@@ -29,6 +29,7 @@ struct CallArgs {
 };
 
 struct CallResult {
+  uint64_t request_id = 0;  // the call's: its task on the state topic carries it
   bool answered = false;  // false: no reply within the timeout
   flsd_msgs_ReplyStatus status = flsd_msgs_STATUS_INTERNAL;
   std::string message;

@@ -65,7 +65,7 @@ struct MotionSummary {
 };
 
 // Follows this client's long call until it ends; Ctrl-C stops the robot.
-int FollowTask(flsd::Client& client, const std::string& call, bool quiet) {
+int FollowTask(flsd::Client& client, const std::string& call, uint64_t request_id, bool quiet) {
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start - std::chrono::seconds(1);
   bool seen = false;  // a state naming this client's task
@@ -83,7 +83,7 @@ int FollowTask(flsd::Client& client, const std::string& call, bool quiet) {
       return kExitNoServer;
     }
     summary.Add(s->msg);
-    const bool ours = s->task_client_id == client.id() && s->task_call == call;
+    const bool ours = s->task_client_id == client.id() && s->msg.task.request_id == request_id;
     const auto now = std::chrono::steady_clock::now();
     seen |= ours;
     if (!seen && now - start > std::chrono::seconds(3)) {
@@ -222,7 +222,7 @@ int main(int argc, char** argv) {
     const flsd::CallResult r = client.Call(call, args, timeout);
     int code = Report(r);
     if (code == 0 && (call == "execute_skill" || call == "track_velocity" || call == "navigate")) {
-      code = FollowTask(client, call, quiet);
+      code = FollowTask(client, call, r.request_id, quiet);
     } else if (code == 0 && call == "stand") {
       client.WaitForState([](const flsd::StateSample& s) { return s.msg.mode == flsd_msgs_MODE_STAND; }, timeout);
       std::this_thread::sleep_for(std::chrono::seconds(1));  // hold control while it rises

@@ -271,8 +271,8 @@ ReplyContent RequestHandler::Velocity(const flsd_msgs_Request& request, const st
       }
     }
   } else {
-    if (navigator_ == nullptr) return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "navigate is not available on this server");
     if (!AllFinite(request.goal, 2)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "goal must be finite");
+    if (navigator_ == nullptr) return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "navigate is not available on this server");
     job.emplace();
     job->goal = Eigen::Vector2d(request.goal[0], request.goal[1]);
     const std::string map_yaml = request.map_yaml != nullptr ? request.map_yaml : "";

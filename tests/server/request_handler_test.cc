@@ -8,8 +8,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <iterator>
 #include <string>
 
+#include "core/check.h"
+#include "skills/runtime/safetensors.h"
+#include "tests/common/test_support.h"
 #include "tests/server/server_fixture.h"
 
 namespace flsd {
@@ -145,11 +150,71 @@ TEST(RequestHandlerSkills, SkillsThatFellInEvaluationAreRefused) {
   EXPECT_THAT(r.message, HasSubstr("skill 1 fell after 9 steps in the library's evaluation"));
 }
 
-TEST_F(RequestHandlerTest, CallsThatNeedTheSelectorSaySoUntilItExists) {
+TEST_F(RequestHandlerTest, VelocityOutsideTheTrainedRangeIsClippedAndTheReplySaysSo) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
-  const ReplyContent r = Send("a", "track_velocity", 0.0, [](flsd_msgs_Request& m) { m.duration = 1.0; });
+  const ReplyContent r = Send("a", "track_velocity", 0.0, [](flsd_msgs_Request& m) {
+    m.velocity[0] = 3.0;
+    m.velocity[2] = -2.0;
+    m.duration = 1.0;
+  });
+  ASSERT_EQ(r.status, flsd_msgs_STATUS_OK) << r.message;
+  EXPECT_THAT(r.message, HasSubstr("vx clipped to 1.00"));
+  EXPECT_THAT(r.message, HasSubstr("wz clipped to -1.00"));
+  EXPECT_THAT(r.message, ::testing::Not(HasSubstr("vy clipped")));
+  EXPECT_GT(RunFor(3.0, flsd_msgs_MODE_VELOCITY), 0);
+}
+
+TEST_F(RequestHandlerTest, NavigateNeedsANavigatorAndAMapThatParses) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  auto navigate = [](RequestHandler& handler, uint64_t id, const char* map_yaml) {
+    TestRequest r("a", id, "navigate");
+    r.msg.goal[0] = 1.0;
+    r.msg.map_yaml = const_cast<char*>(map_yaml);
+    return handler.Handle(r.msg, 0.0, kWallNow).value_or(ReplyContent{});
+  };
+  EXPECT_EQ(navigate(handler_, 10, "").status, flsd_msgs_STATUS_NOT_AVAILABLE);  // no navigator here
+
+  Navigator navigator(controller_, config_.navigation);
+  RequestHandler handler(controller_, config_, &navigator);
+  ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, kWallNow)->status, flsd_msgs_STATUS_OK);
+  const ReplyContent no_map = navigate(handler, 2, "");
+  EXPECT_EQ(no_map.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_THAT(no_map.message, HasSubstr("no map"));
+  const ReplyContent bad_map = navigate(handler, 3, "bounds: [1, 2]\n");
+  EXPECT_EQ(bad_map.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_THAT(bad_map.message, HasSubstr("the request's map"));
+  const ReplyContent ok = navigate(handler, 4, "bounds: [-5, 5, -5, 5]\n");
+  EXPECT_EQ(ok.status, flsd_msgs_STATUS_OK) << ok.message;
+  EXPECT_THAT(ok.message, HasSubstr("planning"));
+}
+
+TEST(RequestHandlerSelector, WithoutASelectorVelocityCallsSaySo) {
+  // The shipped library with its selector taken out.
+  SafeTensors file = ReadSafeTensors(ResolveDataPath("models/a1_flsd.safetensors"));
+  for (auto it = file.tensors.begin(); it != file.tensors.end();) {
+    it = it->first.rfind("selector.", 0) == 0 ? file.tensors.erase(it) : std::next(it);
+  }
+  nlohmann::json metadata = nlohmann::json::parse(file.metadata["flsd"]);
+  metadata.erase("selector");
+  file.metadata["flsd"] = metadata.dump();
+  const std::string path = testutil::UniqueTempPath("no_selector.safetensors");
+  WriteSafeTensors(path, file);
+  const SkillLibrary library = SkillLibrary::Load(path);
+  ASSERT_FALSE(library.selector().has_value());
+
+  ServerConfig config;
+  SimBackend backend{SimBackendConfig{}};
+  Controller controller(backend, library, config);
+  EXPECT_FALSE(controller.has_selector());
+  RequestHandler handler(controller, config);
+  ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, flsd_msgs_STATUS_OK);
+  TestRequest vel("a", 2, "track_velocity");
+  vel.msg.duration = 1.0;
+  const ReplyContent r = handler.Handle(vel.msg, 0.0, 0).value_or(ReplyContent{});
   EXPECT_EQ(r.status, flsd_msgs_STATUS_NOT_AVAILABLE);
-  EXPECT_THAT(r.message, HasSubstr("selector"));
+  EXPECT_THAT(r.message, HasSubstr("has no skill selector"));
+  EXPECT_THROW(HierarchicalPolicy{library}, InputError);
+  std::remove(path.c_str());
 }
 
 TEST_F(RequestHandlerTest, UnknownCallsAndBadClientIdsAreAnswered) {

@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <csignal>
+#include <fstream>
+#include <iterator>
 
 #include "client/client.h"
 #include "comm/protocol.h"
@@ -68,6 +70,87 @@ TEST_F(SkilldTest, AClientListsSkillsStandsAndRunsASkillToItsEnd) {
   EXPECT_EQ(done->msg.mode, flsd_msgs_MODE_STAND);
   EXPECT_EQ(done->msg.faults, 0u);
   EXPECT_EQ(done->backend, "sim");
+}
+
+// track_velocity: the selector chooses skills each tick for the command (clipped to its trained
+// range, which the reply reports), and the task ends when its duration is up.
+TEST_F(SkilldTest, TracksAVelocityCommandWithTheSelector) {
+  StartServer();
+  auto client = Connect();
+  ASSERT_TRUE(client->AcquireControl().ok());
+  CallArgs args;
+  args.velocity = {5.0, 0.0, 0.0};
+  args.duration = 3.0;
+  const CallResult r = client->Call("track_velocity", args);
+  ASSERT_TRUE(r.ok()) << r.Describe();
+  EXPECT_THAT(r.message, HasSubstr("vx clipped to 1.00"));
+  const auto walking = client->WaitForState(
+      [](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_VELOCITY && s.msg.skill >= 0; }, 10s);
+  ASSERT_TRUE(walking) << "the velocity task did not start";
+  EXPECT_EQ(walking->task_call, "track_velocity");
+  const auto done = client->WaitForState(
+      [](const StateSample& s) { return s.msg.task.state != flsd_msgs_TASK_RUNNING && s.task_call == "track_velocity"; },
+      10s);
+  ASSERT_TRUE(done);
+  EXPECT_EQ(done->msg.task.state, flsd_msgs_TASK_SUCCEEDED) << done->task_message;
+  EXPECT_EQ(done->msg.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(done->msg.faults, 0u) << done->fault_message;
+}
+
+// navigate, each outcome on a map with a known answer: a goal inside an obstacle and an enclosed
+// goal have no path; a goal within the tolerance is reached; a walk is followed along a published
+// path until it is cancelled.
+TEST_F(SkilldTest, NavigationEndsAsNoPathReachedOrCancelledWithTheReason) {
+  StartServer();
+  auto client = Connect();
+  ASSERT_TRUE(client->AcquireControl().ok());
+  auto navigate = [&](double x, double y, const std::string& map_yaml) {
+    CallArgs args;
+    args.goal = {x, y};
+    args.map_yaml = map_yaml;
+    const CallResult r = client->Call("navigate", args);
+    EXPECT_TRUE(r.ok()) << r.Describe();
+    return client->WaitForState(
+        [&](const StateSample& s) { return s.msg.task.request_id == r.request_id && s.msg.task.state != flsd_msgs_TASK_RUNNING; },
+        15s);
+  };
+  const std::string open = "bounds: [-5, 5, -5, 5]\nrobot_radius: 0.35\n";
+  const auto inside = navigate(2.0, 0.0, open + "circles: [{center: [2.0, 0.0], radius: 0.5}]\n");
+  ASSERT_TRUE(inside);
+  EXPECT_EQ(inside->msg.task.state, flsd_msgs_TASK_NO_PATH);
+  EXPECT_THAT(inside->task_message, HasSubstr("goal"));
+
+  std::ifstream enclosed_file(FLSD_SOURCE_DIR "/configs/maps/enclosed.yaml");
+  const std::string enclosed((std::istreambuf_iterator<char>(enclosed_file)), std::istreambuf_iterator<char>());
+  const auto unreachable = navigate(3.0, 3.0, enclosed);
+  ASSERT_TRUE(unreachable);
+  EXPECT_EQ(unreachable->msg.task.state, flsd_msgs_TASK_NO_PATH);
+
+  const auto here = navigate(0.1, 0.05, open);
+  ASSERT_TRUE(here);
+  EXPECT_EQ(here->msg.task.state, flsd_msgs_TASK_SUCCEEDED) << here->task_message;
+  EXPECT_THAT(here->task_message, HasSubstr("reached"));
+
+  CallArgs far;
+  far.goal = {4.0, 0.0};
+  far.map_yaml = open;
+  const CallResult walk = client->Call("navigate", far);
+  ASSERT_TRUE(walk.ok()) << walk.Describe();
+  const auto following = client->WaitForState(
+      [&](const StateSample& s) {
+        return s.msg.task.request_id == walk.request_id && s.msg.mode == flsd_msgs_MODE_NAVIGATE && s.task_path.size() >= 4;
+      },
+      10s);
+  ASSERT_TRUE(following) << "no path was published while navigating";
+  EXPECT_NEAR(following->task_path[following->task_path.size() - 2], 4.0, 1e-9);
+  EXPECT_NEAR(following->task_path.back(), 0.0, 1e-9);
+  ASSERT_TRUE(client->Call("stop").ok());
+  const auto stopped = client->WaitForState(
+      [&](const StateSample& s) { return s.msg.task.request_id == walk.request_id && s.msg.task.state != flsd_msgs_TASK_RUNNING; },
+      5s);
+  ASSERT_TRUE(stopped);
+  EXPECT_EQ(stopped->msg.task.state, flsd_msgs_TASK_CANCELLED);
+  EXPECT_EQ(stopped->msg.faults, 0u);
 }
 
 TEST_F(SkilldTest, StateArrivesAtTheControlRate) {

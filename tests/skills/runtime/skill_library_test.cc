@@ -93,10 +93,10 @@ TEST_F(SkillLibraryTest, LoadsShapesAndDescriptors) {
   const SkillLibrary lib = SkillLibrary::Load(path_);
   EXPECT_EQ(lib.num_skills(), kSkills);
   EXPECT_EQ(lib.policy_obs_size(), 33 + 12 + kSkills);
-  ASSERT_EQ(lib.policy_layers().size(), 3u);
-  EXPECT_EQ(lib.policy_layers()[0].weight.rows(), 32);
-  EXPECT_EQ(lib.policy_layers()[0].weight.cols(), 50);
-  EXPECT_EQ(lib.policy_layers()[2].weight.rows(), 12);
+  ASSERT_EQ(lib.policy().layers.size(), 3u);
+  EXPECT_EQ(lib.policy().layers[0].weight.rows(), 32);
+  EXPECT_EQ(lib.policy().layers[0].weight.cols(), 50);
+  EXPECT_EQ(lib.policy().layers[2].weight.rows(), 12);
   ASSERT_EQ(lib.skills().size(), static_cast<size_t>(kSkills));
   EXPECT_EQ(lib.skills()[3].survival_steps, 997);
   EXPECT_DOUBLE_EQ(lib.skills()[3].mean_linear_velocity.x(), 0.3 * 1.0);

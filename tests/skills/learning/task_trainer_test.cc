@@ -1,0 +1,165 @@
+// The velocity task and its two learners (the selector over the shipped skills, and the policy
+// from scratch) on configs/selector_smoke.yaml: iterations, resume, the library fingerprint
+// guard, and the exported selector's parity with libtorch.
+
+#include "skills/learning/task_trainer.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+
+#include "core/paths.h"
+#include "robot/observation.h"
+#include "skills/learning/export.h"
+#include "skills/learning/tracking_eval.h"
+#include "skills/learning/velocity_task.h"
+#include "skills/runtime/safetensors.h"
+#include "tests/common/test_support.h"
+
+namespace flsd {
+namespace {
+
+using ::testing::HasSubstr;
+using testutil::InputErrorMessage;
+namespace fs = std::filesystem;
+
+class TaskTraining : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testutil::UniqueTempPath("task");
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // The library is copied, so that a test may change it.
+    library_ = Path("skills.safetensors");
+    fs::copy_file(ResolveDataPath("models/a1_flsd.safetensors"), library_);
+    config_ = LoadTaskTrainConfig(ResolveDataPath("configs/selector_smoke.yaml"));
+    config_.library = library_;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+
+  // A new run in `name` with config_, trained to `iterations`.
+  int Train(const std::string& name, int iterations, bool resume = false) {
+    const std::string config_file = Path(name + ".yaml");
+    std::ofstream(config_file) << ToYamlString(config_);
+    TaskRunOptions options;
+    options.config_path = config_file;
+    options.run_dir = Path(name);
+    options.resume = resume;
+    options.iterations = iterations;
+    std::atomic<bool> stop{false};
+    return RunTaskTraining(options, stop);
+  }
+
+  std::string dir_, library_;
+  TaskTrainConfig config_;
+};
+
+TEST(VelocityTask, CommandsAreRedrawnOnScheduleAndSeenScaledInTheObservation) {
+  VelocityTaskConfig config;
+  config.commands.resampling_s = 0.1;  // every 5 control steps
+  config.commands.min_planar_speed = 0.0;
+  EnvConfig env;
+  env.randomization.DisableAll();
+  VelocityTask task(env, config, 2, 7, 1);
+  std::vector<float> actions(2 * kActionSize, 0.0f), obs(2 * kTaskObsSize);
+  const Eigen::Vector3d first = task.command(0);
+  for (int t = 0; t < 4; ++t) task.Step(actions.data());
+  EXPECT_EQ(task.command(0), first) << "redrawn before its time";
+  task.Step(actions.data());
+  EXPECT_NE(task.command(0), first) << "not redrawn after 5 steps";
+  task.WriteTaskObservations(obs.data());
+  const Eigen::Vector3d c = task.command(1);
+  EXPECT_FLOAT_EQ(obs[kTaskObsSize + kMotionObsSize + 0], 2.0 * c.x());  // o^m's base_lin_vel scale
+  EXPECT_FLOAT_EQ(obs[kTaskObsSize + kMotionObsSize + 1], 2.0 * c.y());
+  EXPECT_FLOAT_EQ(obs[kTaskObsSize + kMotionObsSize + 2], 0.25 * c.z());  // base_ang_vel scale
+  EXPECT_FLOAT_EQ(obs[kTaskObsSize + 0], task.vec_env().motion_obs()[kMotionObsSize + 0]);
+  // The reward is legged_gym's, on the state the step ended in: standing still under a command
+  // to move earns the tracking terms' values for that error.
+  const VelocityRewardTerms& terms = task.terms(0);
+  EXPECT_GT(terms.tracking_lin_vel, 0.0);
+  EXPECT_LE(terms.tracking_lin_vel, 1.0);
+  EXPECT_GE(task.rewards()[0], 0.0f);
+}
+
+TEST_F(TaskTraining, SelectorAndScratchRunsTrainResumeAndLogEveryIteration) {
+  ASSERT_EQ(Train("selector", 2), 0);
+  ASSERT_EQ(Train("selector", 3, /*resume=*/true), 0);
+  std::ifstream progress(Path("selector/progress.csv"));
+  std::string header, line;
+  std::getline(progress, header);
+  EXPECT_THAT(header, HasSubstr("mean_reward"));
+  int rows = 0;
+  for (; std::getline(progress, line); ++rows) EXPECT_EQ(std::stoi(line), rows + 1);
+  EXPECT_EQ(rows, 3);
+
+  config_.method = "scratch";
+  ASSERT_EQ(Train("scratch", 2), 0);
+  EXPECT_TRUE(fs::exists(Path("scratch/checkpoint.pt")));
+}
+
+TEST_F(TaskTraining, ASelectorIsNeverResumedOrExportedOverAChangedLibrary) {
+  ASSERT_EQ(Train("selector", 1), 0);
+  // Another library in the same place: one skill descriptor differs.
+  SafeTensors file = ReadSafeTensors(library_);
+  nlohmann::json metadata = nlohmann::json::parse(file.metadata["flsd"]);
+  metadata["skills"][0]["mean_base_height"] = 0.5;
+  file.metadata["flsd"] = metadata.dump();
+  WriteSafeTensors(library_, file);
+  EXPECT_THAT(InputErrorMessage([&] { Train("selector", 2, /*resume=*/true); }), HasSubstr("fingerprint"));
+  EXPECT_THAT(InputErrorMessage([&] { ExportSelector(Path("selector"), Path("out.safetensors")); }),
+              HasSubstr("fingerprint"));
+}
+
+TEST_F(TaskTraining, TheExportedSelectorMatchesLibtorchAndRunsTheSkills) {
+  ASSERT_EQ(Train("selector", 2), 0);
+  const std::string out = Path("with_selector.safetensors");
+  const nlohmann::json result = ExportSelector(Path("selector"), out);
+  EXPECT_EQ(result["tracking"]["cases"].size(), StandardTrackingCases().size());
+
+  const SkillLibrary library = SkillLibrary::Load(out);
+  ASSERT_TRUE(library.selector().has_value());
+  const SkillLibrary base = SkillLibrary::Load(library_);
+  EXPECT_EQ(library.num_skills(), base.num_skills());
+  EXPECT_EQ(library.metadata()["selector"]["evaluation"]["cases"].size(), StandardTrackingCases().size());
+
+  TrainedSelector trained = LoadTrainedSelector(config_, base.num_skills(), Path("selector/checkpoint.pt"));
+  torch::manual_seed(11);
+  const torch::Tensor obs = torch::randn({16, kTaskObsSize}) * 2.0;
+  torch::NoGradGuard no_grad;
+  const torch::Tensor logits = trained.policy->Distribution(trained.normalizer->Normalize(obs));
+  NetworkRunner runner(library.selector()->network);
+  HierarchicalPolicy hierarchy(library);
+  std::vector<float> out_logits(library.num_skills()), action(kActionSize), previous(kActionSize, 0.0f);
+  double worst = 0.0;
+  for (int64_t i = 0; i < obs.size(0); ++i) {
+    runner.Run(obs[i].data_ptr<float>(), out_logits.data());
+    for (int k = 0; k < library.num_skills(); ++k) {
+      worst = std::max(worst, std::abs(double(out_logits[k]) - logits[i][k].item<double>()));
+    }
+    // The hierarchy chooses the most probable skill for the same o^c (built from o^m and the
+    // command the observation encodes).
+    const float* row = obs[i].data_ptr<float>();
+    const double command[3] = {row[kMotionObsSize] / 2.0, row[kMotionObsSize + 1] / 2.0,
+                               row[kMotionObsSize + 2] / 0.25};
+    const std::array<double, 3> clipped = hierarchy.Clip(command);
+    if (clipped[0] == command[0] && clipped[1] == command[1] && clipped[2] == command[2]) {
+      const int skill = hierarchy.Act(row, command, previous.data(), action.data());
+      EXPECT_EQ(skill, logits[i].argmax().item<int64_t>()) << "sample " << i;
+    }
+  }
+  EXPECT_LT(worst, 1e-4) << "Eigen and libtorch selector logits differ";
+}
+
+TEST_F(TaskTraining, ExportingAScratchRunIsRefused) {
+  config_.method = "scratch";
+  ASSERT_EQ(Train("scratch", 1), 0);
+  EXPECT_THAT(InputErrorMessage([&] { ExportSelector(Path("scratch"), Path("out.safetensors")); }),
+              HasSubstr("only a selector run"));
+}
+
+}  // namespace
+}  // namespace flsd

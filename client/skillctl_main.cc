@@ -12,6 +12,7 @@
 
 #include "bench/dds_bench.h"
 #include "client/client.h"
+#include "client/navigation_picture.h"
 #include "comm/protocol.h"
 
 namespace {
@@ -65,25 +66,39 @@ struct MotionSummary {
 };
 
 // Follows this client's long call until it ends; Ctrl-C stops the robot.
-int FollowTask(flsd::Client& client, const std::string& call, uint64_t request_id, bool quiet) {
+// With `record`, keeps what a navigation planned and where the robot walked.
+int FollowTask(flsd::Client& client, const std::string& call, uint64_t request_id, bool quiet,
+               flsd::NavigationRecord* record = nullptr) {
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start - std::chrono::seconds(1);
   bool seen = false;  // a state naming this client's task
   MotionSummary summary;
+  uint64_t last_tick = 0;
   for (;;) {
     if (g_interrupted) {
       std::printf("interrupted: stopping\n");
       client.Call("stop");
       return kExitTaskFailed;
     }
-    const std::optional<flsd::StateSample> s = client.WaitForState([](const flsd::StateSample&) { return true; },
-                                                                    std::chrono::milliseconds(1000));
+    // Each sample once: waiting for any sample would return the latest again at once.
+    const std::optional<flsd::StateSample> s = client.WaitForState(
+        [&](const flsd::StateSample& sample) { return sample.msg.tick > last_tick; }, std::chrono::milliseconds(1000));
     if (!s) {
       std::fprintf(stderr, "skillctl: no state from skilld for 1 s\n");
       return kExitNoServer;
     }
+    last_tick = s->msg.tick;
     summary.Add(s->msg);
     const bool ours = s->task_client_id == client.id() && s->msg.task.request_id == request_id;
+    if (record != nullptr && ours) {
+      if (!s->task_path.empty() && (record->planned.empty() || record->planned.back() != s->task_path)) {
+        record->planned.push_back(s->task_path);
+      }
+      if (s->msg.mode == flsd_msgs_MODE_NAVIGATE) {
+        record->walked_x.push_back(s->msg.position[0]);
+        record->walked_y.push_back(s->msg.position[1]);
+      }
+    }
     const auto now = std::chrono::steady_clock::now();
     seen |= ours;
     if (!seen && now - start > std::chrono::seconds(3)) {
@@ -97,6 +112,9 @@ int FollowTask(flsd::Client& client, const std::string& call, uint64_t request_i
     if (ours && s->msg.task.state != flsd_msgs_TASK_RUNNING) {
       if (!quiet) PrintState(*s);
       std::printf("%s %s: %s\n", call.c_str(), flsd::dds::TaskStateName(s->msg.task.state), s->task_message.c_str());
+      if (record != nullptr) {
+        record->outcome = call + " " + flsd::dds::TaskStateName(s->msg.task.state) + ": " + s->task_message;
+      }
       summary.Print(s->msg.task.state == flsd_msgs_TASK_SAFETY_STOP, s->task_message);
       return s->msg.task.state == flsd_msgs_TASK_SUCCEEDED ? 0 : kExitTaskFailed;
     }
@@ -146,6 +164,9 @@ int main(int argc, char** argv) {
   go->add_option("x", args.goal[0], "m")->required();
   go->add_option("y", args.goal[1], "m")->required();
   go->add_option("--map", map_file, "Map (YAML); default: the server's");
+  go->add_option("--duration", args.duration, "Give up after this many seconds (default: the server's timeout)");
+  std::string picture;
+  go->add_option("--picture", picture, "Write the planned and walked paths to this SVG");
   app.add_subcommand("stop", "End the current motion; the robot stands");
   app.add_subcommand("stand", "Stand in the default pose (clears a safety stop once upright)");
   app.add_subcommand("damp", "Emergency stop: damp all joints (any client may)");
@@ -222,7 +243,16 @@ int main(int argc, char** argv) {
     const flsd::CallResult r = client.Call(call, args, timeout);
     int code = Report(r);
     if (code == 0 && (call == "execute_skill" || call == "track_velocity" || call == "navigate")) {
-      code = FollowTask(client, call, r.request_id, quiet);
+      flsd::NavigationRecord record;
+      record.goal_x = args.goal[0];
+      record.goal_y = args.goal[1];
+      code = FollowTask(client, call, r.request_id, quiet, picture.empty() ? nullptr : &record);
+      if (!picture.empty()) {
+        std::optional<flsd::Map2D> map;
+        if (!args.map_yaml.empty()) map = flsd::Map2D::Parse(args.map_yaml, map_file);
+        flsd::WriteNavigationPicture(picture, map, record);
+        std::printf("picture: %s\n", picture.c_str());
+      }
     } else if (code == 0 && call == "stand") {
       client.WaitForState([](const flsd::StateSample& s) { return s.msg.mode == flsd_msgs_MODE_STAND; }, timeout);
       std::this_thread::sleep_for(std::chrono::seconds(1));  // hold control while it rises

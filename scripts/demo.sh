@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # make demo: skilld with the simulated A1 and the shipped skill library, driven by skillctl the way
-# a user would: list the skills, stand, run the four fastest ones, then stop the server cleanly.
+# a user would: list the skills, stand, run the four fastest ones, track a velocity with the
+# skill selector, navigate around the obstacles of configs/maps/demo.yaml (writing a picture of
+# the planned and the walked path to $PICTURE), then stop the server cleanly.
 # Everything stays on this machine (Cyclone on loopback, a partition of its own).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -30,6 +32,14 @@ for k in $fastest; do
   echo "== skill $k for 4 s"
   "${ctl[@]}" --quiet skill "$k" --duration 4 || status=$?
 done
+echo "== track 0.4 m/s forward for 4 s (the selector chooses the skills)"
+"${ctl[@]}" --quiet vel 0.4 0 0 --duration 4 || status=$?
+"${ctl[@]}" stand >/dev/null
+picture=${PICTURE:-build/demo_navigation.svg}
+echo "== reset: back to the origin of the map"
+"${ctl[@]}" reset >/dev/null
+echo "== navigate to (5, 0) around the obstacles of configs/maps/demo.yaml"
+"${ctl[@]}" --quiet goto 5 0 --map configs/maps/demo.yaml --duration 60 --picture "$picture" || status=$?
 echo "== status"
 "${ctl[@]}" status
 exit $status

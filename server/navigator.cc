@@ -82,7 +82,7 @@ bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, Plan
   options.waypoint_spacing = config_.waypoint_spacing;
   path = PlanPath(job.map, from, job.goal, options);
   if (path.status != PlannedPath::Status::kFound) {
-    Finish(job, flsd_msgs_TASK_NO_PATH, std::string("no path: ") + path.message);
+    Finish(job, flsd_msgs_TASK_NO_PATH, path.message);
     return false;
   }
   std::vector<double> flat;
@@ -119,7 +119,7 @@ void Navigator::Navigate(const NavigationJob& job) {
       continue;
     }
     seen = true;
-    if (elapsed > config_.timeout) {
+    if (elapsed > job.timeout) {
       const double left = (job.goal - status.state.base_position.head<2>()).norm();
       Finish(job, flsd_msgs_TASK_TIMEOUT, Format("timeout after %.0f s, %.2f m from the goal", elapsed, left));
       return;

@@ -25,6 +25,7 @@ struct NavigationJob {
   uint64_t request_id = 0;
   Eigen::Vector2d goal = Eigen::Vector2d::Zero();
   Map2D map;
+  double timeout = 120.0;  // s, standing up included
 };
 
 class Navigator {

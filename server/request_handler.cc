@@ -288,8 +288,16 @@ ReplyContent RequestHandler::Velocity(const flsd_msgs_Request& request, const st
       return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT,
                    "no map: send one with the request, or name one in the server config (navigation.map)");
     }
+    // A duration, if given, bounds this navigation; otherwise the server's navigation.timeout.
+    job->timeout = config_.navigation.timeout;
+    if (request.duration != 0.0) {
+      if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
+        return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+      }
+      job->timeout = request.duration;
+    }
     control.navigate = true;
-    control.duration = config_.navigation.timeout + 1.0;  // the navigator times out first, with a message
+    control.duration = job->timeout + 1.0;  // the navigator times out first, with a message
     char text[192];
     std::snprintf(text, sizeof text, "navigation to (%.2f, %.2f) accepted; planning", job->goal.x(), job->goal.y());
     accepted = text;

@@ -13,6 +13,7 @@
 #include "bench/sim_bench.h"
 #include "bench/train_bench.h"
 #include "core/check.h"
+#include "report/learning_curves.h"
 #include "skills/learning/evaluation.h"
 #include "skills/learning/export.h"
 #include "skills/learning/task_trainer.h"
@@ -73,6 +74,16 @@ int main(int argc, char** argv) {
       app.add_subcommand("export-selector", "Add a selector run's skill selector to its skill library");
   export_selector_cmd->add_option("run", run_dir, "Selector run folder (flsd train-selector)")->required();
   export_selector_cmd->add_option("-o,--output", library_path, "Library file to write")->required();
+
+  std::vector<std::string> curve_args;
+  flsd::CurvePlotOptions curves;
+  CLI::App* plot_cmd = app.add_subcommand("plot", "Draw learning curves of runs as one SVG chart");
+  plot_cmd->add_option("curves", curve_args, "LABEL=RUN_DIR/progress.csv ...")->required();
+  plot_cmd->add_option("--x", curves.x, "Column for the x axis (default env_steps)");
+  plot_cmd->add_option("--y", curves.y, "Column for the y axis (default mean_reward)");
+  plot_cmd->add_option("--smooth", curves.smooth, "Moving average over this many iterations")->check(CLI::Range(1, 100000));
+  plot_cmd->add_option("--title", curves.title, "Chart title");
+  plot_cmd->add_option("-o,--output", curves.output, "SVG file to write")->required();
 
   CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks that print JSON");
   bench_cmd->require_subcommand(1);
@@ -150,6 +161,17 @@ int main(int argc, char** argv) {
     if (*export_selector_cmd) {
       flsd::ConfigureTorchThreads(0);
       std::printf("%s\n", flsd::ExportSelector(run_dir, library_path).dump(2).c_str());
+      return 0;
+    }
+    if (*plot_cmd) {
+      std::vector<flsd::CurveSpec> specs;
+      for (const std::string& arg : curve_args) {
+        const size_t eq = arg.find('=');
+        if (eq == std::string::npos) throw flsd::InputError("plot: expected LABEL=FILE, got '" + arg + "'");
+        specs.push_back({arg.substr(0, eq), arg.substr(eq + 1)});
+      }
+      flsd::PlotCurves(specs, curves);
+      std::printf("%s\n", curves.output.c_str());
       return 0;
     }
     if (*sim_cmd) {

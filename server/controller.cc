@@ -83,12 +83,22 @@ void Controller::Tick() {
   if (have_stop) Apply(stop);
   if (have_damp) Apply(damp);
 
+  // A skill or velocity task waiting for the stand to settle starts now, so that its policy acts
+  // from its first published tick.
+  if (mode_ == flsd_msgs_MODE_STAND && stand_ticks_ >= stand_total_ticks_ && pending_mode_ != flsd_msgs_MODE_IDLE) {
+    mode_ = pending_mode_;
+    skill_ = mode_ == flsd_msgs_MODE_SKILL ? pending_skill_ : -1;
+    task_ticks_left_ = pending_ticks_;
+    pending_mode_ = flsd_msgs_MODE_IDLE;
+    pending_ticks_ = 0;
+    previous_action_.fill(0.0f);  // as at the start of a training episode
+  }
   JointCommand command;
   switch (mode_) {
     case flsd_msgs_MODE_STAND: command = StandCommand(); break;
-    case flsd_msgs_MODE_SKILL: command = SkillCommand(); break;
+    case flsd_msgs_MODE_SKILL: command = task_ticks_left_ > 0 ? SkillCommand() : EndTimedTask(); break;
     case flsd_msgs_MODE_VELOCITY:
-    case flsd_msgs_MODE_NAVIGATE: command = VelocityCommand(); break;
+    case flsd_msgs_MODE_NAVIGATE: command = task_ticks_left_ > 0 ? VelocityCommand() : EndTimedTask(); break;
     default: command = DampCommand(); break;
   }
   backend_.Send(command);
@@ -249,14 +259,6 @@ JointCommand Controller::StandCommand() {
   a1::JointArray<double> target;
   for (int j = 0; j < a1::kNumJoints; ++j) target[j] = stand_from_[j] + s * (a1::kDefaultJointPos[j] - stand_from_[j]);
   if (stand_ticks_ < stand_total_ticks_) ++stand_ticks_;
-  if (stand_ticks_ >= stand_total_ticks_ && pending_mode_ != flsd_msgs_MODE_IDLE) {
-    mode_ = pending_mode_;
-    skill_ = mode_ == flsd_msgs_MODE_SKILL ? pending_skill_ : -1;
-    task_ticks_left_ = pending_ticks_;
-    pending_mode_ = flsd_msgs_MODE_IDLE;
-    pending_ticks_ = 0;
-    previous_action_.fill(0.0f);  // as at the start of a training episode
-  }
   JointCommand command;
   command.position = target;
   command.kp.fill(config_.stand_kp);
@@ -288,16 +290,19 @@ JointCommand Controller::PolicyCommand() {
   previous_action_ = action_;
   a1::JointArray<double> target = JointTargetsFromAction(action_.data());
   SafetySupervisor::ClampTargets(target);
-  if (--task_ticks_left_ <= 0) {
-    if (mode_ == flsd_msgs_MODE_NAVIGATE) {
-      EndTask(flsd_msgs_TASK_TIMEOUT, "the navigation ran out of time");
-    } else {
-      EndTask(flsd_msgs_TASK_SUCCEEDED, mode_ == flsd_msgs_MODE_SKILL ? "skill ran for its duration"
-                                                                       : "velocity tracked for its duration");
-    }
-    EnterStand();
-  }
+  --task_ticks_left_;
   return JointCommand::Track(target);
+}
+
+JointCommand Controller::EndTimedTask() {
+  if (mode_ == flsd_msgs_MODE_NAVIGATE) {
+    EndTask(flsd_msgs_TASK_TIMEOUT, "the navigation ran out of time");
+  } else {
+    EndTask(flsd_msgs_TASK_SUCCEEDED,
+            mode_ == flsd_msgs_MODE_SKILL ? "skill ran for its duration" : "velocity tracked for its duration");
+  }
+  EnterStand();
+  return StandCommand();
 }
 
 void Controller::Publish() {

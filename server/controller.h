@@ -111,6 +111,8 @@ class Controller {
   JointCommand VelocityCommand();
   // Checks and applies a policy's joint action; counts the task's time down.
   JointCommand PolicyCommand();
+  // A skill or velocity task whose time is up: it succeeded (a navigation timed out); stand.
+  JointCommand EndTimedTask();
   JointCommand DampCommand() const { return JointCommand::Damp(config_.safety.damping_kd); }
   bool MotorsActive() const;
   void Publish();

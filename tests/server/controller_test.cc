@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <set>
 
 #include "tests/server/server_fixture.h"
 
@@ -20,7 +21,15 @@ namespace {
 using ::testing::HasSubstr;
 using Kind = ControlRequest::Kind;
 
-class ControllerTest : public testutil::ControllerFixture {};
+class ControllerTest : public testutil::ControllerFixture {
+ protected:
+  static ControlRequest VelocityRequest(double vx, double wz, double duration, bool navigate = false) {
+    ControlRequest r = Request(Kind::kVelocity, 0, duration);
+    r.velocity = {vx, 0.0, wz};
+    r.navigate = navigate;
+    return r;
+  }
+};
 
 double MaxJointError(const RobotState& s) {
   double worst = 0.0;
@@ -219,6 +228,75 @@ TEST_F(ControllerTest, TheControlTickAllocatesNothing) {
             }),
             0);
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+}
+
+// The selector runs the skills each tick: the published skill is the selector's choice, and the
+// task ends after its duration with the robot standing.
+TEST_F(ControllerTest, VelocityModeRunsTheSelectorsSkillsForItsDuration) {
+  ASSERT_TRUE(controller_.has_selector());
+  StandUp();
+  ASSERT_TRUE(controller_.Submit(VelocityRequest(-0.5, 0.0, 2.0)));
+  std::set<int> chosen;
+  int in_velocity = 0;
+  for (int i = 0; i < 200; ++i) {
+    controller_.Tick();
+    const ControllerStatus s = controller_.status();
+    if (s.mode == flsd_msgs_MODE_VELOCITY) {
+      ++in_velocity;
+      ASSERT_GE(s.skill, 0);
+      ASSERT_LT(s.skill, controller_.library().num_skills());
+      chosen.insert(s.skill);
+    }
+  }
+  EXPECT_NEAR(in_velocity, 100, 2);  // 2 s at 50 Hz
+  EXPECT_FALSE(chosen.empty());
+  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_SUCCEEDED);
+  EXPECT_THAT(controller_.status().task.message.data(), HasSubstr("velocity tracked"));
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+}
+
+// The navigator's steering and its ending apply only to the navigation they belong to.
+TEST_F(ControllerTest, UpdatesAndStopsForAnotherTaskAreIgnored) {
+  StandUp();
+  ASSERT_TRUE(controller_.Submit(VelocityRequest(0.0, 0.0, 10.0, /*navigate=*/true)));
+  RunFor(1.0);
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_NAVIGATE);
+  ControlRequest update = Request(Kind::kVelocityUpdate);
+  update.request_id = 7;  // not the running task's (42)
+  SetText(update.reason, "stale");
+  ControlRequest stop = Request(Kind::kStop);
+  stop.request_id = 7;
+  stop.only_this_task = true;
+  stop.stop_state = flsd_msgs_TASK_NO_PATH;
+  ASSERT_TRUE(controller_.Submit(update));
+  ASSERT_TRUE(controller_.Submit(stop));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_NAVIGATE);
+  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_RUNNING);
+  EXPECT_THAT(controller_.status().task.message.data(), ::testing::Not(HasSubstr("stale")));
+
+  update.request_id = 42;
+  SetText(update.reason, "2.0 m to go");
+  ASSERT_TRUE(controller_.Submit(update));
+  controller_.Tick();
+  EXPECT_THAT(controller_.status().task.message.data(), HasSubstr("2.0 m to go"));
+  stop.request_id = 42;
+  SetText(stop.reason, "the goal is walled in");
+  ASSERT_TRUE(controller_.Submit(stop));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_NO_PATH);
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+}
+
+TEST_F(ControllerTest, TheVelocityTickAllocatesNothing) {
+  StandUp();
+  ASSERT_TRUE(controller_.Submit(VelocityRequest(-0.5, 0.3, 1.5)));
+  RunFor(1.0);
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_VELOCITY);
+  EXPECT_EQ(testutil::CountMallocs([&] {
+              for (int i = 0; i < 100; ++i) controller_.Tick();
+            }),
+            0);
 }
 
 }  // namespace

@@ -23,6 +23,22 @@ FloatTensor ToFloatTensor(const torch::Tensor& t) {
   return out;
 }
 
+// The Linear layers of `mlp` as `layer_prefix`layer<l>.{weight,bias}, and the normaliser as
+// `normalizer_prefix`{mean,std}: the layout SkillLibrary reads (skills/runtime/skill_library.cc).
+void AddNetwork(SafeTensors& file, const torch::nn::Sequential& mlp, const RunningNormalizer& normalizer,
+                const std::string& layer_prefix, const std::string& normalizer_prefix) {
+  int layer = 0;
+  for (const auto& module : mlp->children()) {
+    if (const auto* linear = module->as<torch::nn::Linear>()) {
+      const std::string name = layer_prefix + "layer" + std::to_string(layer++);
+      file.tensors[name + ".weight"] = ToFloatTensor(linear->weight);
+      file.tensors[name + ".bias"] = ToFloatTensor(linear->bias);
+    }
+  }
+  file.tensors[normalizer_prefix + "mean"] = ToFloatTensor(normalizer->mean());
+  file.tensors[normalizer_prefix + "std"] = ToFloatTensor(normalizer->Std());
+}
+
 template <size_t N>
 std::vector<double> Vec(const std::array<double, N>& a) {
   return std::vector<double>(a.begin(), a.end());
@@ -107,16 +123,7 @@ void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const
   // One string holds the whole description: safetensors metadata values must be strings.
   file.metadata["format"] = kSkillLibraryFormat;
   file.metadata["flsd"] = SkillLibraryMetadata(config, policy, evaluation, provenance).dump();
-  int layer = 0;
-  for (const auto& module : policy.policy->actor()->children()) {
-    if (const auto* linear = module->as<torch::nn::Linear>()) {
-      const std::string name = "policy.layer" + std::to_string(layer++);
-      file.tensors[name + ".weight"] = ToFloatTensor(linear->weight);
-      file.tensors[name + ".bias"] = ToFloatTensor(linear->bias);
-    }
-  }
-  file.tensors["normalizer.mean"] = ToFloatTensor(policy.normalizer->mean());
-  file.tensors["normalizer.std"] = ToFloatTensor(policy.normalizer->Std());
+  AddNetwork(file, policy.policy->actor(), policy.normalizer, "policy.", "normalizer.");
   WriteSafeTensors(path, file);
 }
 
@@ -152,16 +159,7 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
 
   SafeTensors file = ReadSafeTensors(config.library);
   nlohmann::json metadata = base.metadata();
-  int layer = 0;
-  for (const auto& module : selector.policy->actor()->children()) {
-    if (const auto* linear = module->as<torch::nn::Linear>()) {
-      const std::string name = "selector.layer" + std::to_string(layer++);
-      file.tensors[name + ".weight"] = ToFloatTensor(linear->weight);
-      file.tensors[name + ".bias"] = ToFloatTensor(linear->bias);
-    }
-  }
-  file.tensors["selector.normalizer.mean"] = ToFloatTensor(selector.normalizer->mean());
-  file.tensors["selector.normalizer.std"] = ToFloatTensor(selector.normalizer->Std());
+  AddNetwork(file, selector.policy->actor(), selector.normalizer, "selector.", "selector.normalizer.");
   const VelocityCommandConfig& commands = config.task.commands;
   metadata["selector"] = {
       {"hidden", config.policy.actor_hidden},

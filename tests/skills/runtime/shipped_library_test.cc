@@ -1,0 +1,57 @@
+// The library that make demo and skilld ship (models/a1_flsd.safetensors): it loads with its
+// selector, and its three fastest skills keep the simulated A1 up for 10 s, run as skilld runs
+// them (PolicyRunner, Eigen) on the nominal robot.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "core/paths.h"
+#include "robot/observation.h"
+#include "sim/env.h"
+#include "skills/runtime/skill_library.h"
+
+namespace flsd {
+namespace {
+
+TEST(ShippedLibrary, LoadsWithItsSelectorAndThreeSkillsKeepTheRobotUpFor10s) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
+  ASSERT_TRUE(library.selector().has_value()) << "the shipped library has no skill selector";
+  std::vector<const SkillDescriptor*> skills;
+  for (const SkillDescriptor& d : library.skills()) {
+    if (!d.fell) skills.push_back(&d);
+  }
+  ASSERT_GE(skills.size(), 3u);
+  std::sort(skills.begin(), skills.end(), [](const SkillDescriptor* a, const SkillDescriptor* b) {
+    return a->mean_linear_velocity.head<2>().norm() > b->mean_linear_velocity.head<2>().norm();
+  });
+
+  EnvConfig config;
+  config.randomization.DisableAll();
+  config.episode_steps = 10000;
+  const MjModelPtr model = LoadMjModel(config.model);
+  PolicyRunner policy(library);
+  for (int n = 0; n < 3; ++n) {
+    const int skill = skills[n]->id;
+    Env env(*model, config, 1);
+    env.Reset();
+    std::vector<float> motion(kMotionObsSize), obs(library.policy_obs_size()), action(kActionSize, 0.0f);
+    std::vector<float> previous(kActionSize, 0.0f);
+    const Eigen::Vector3d start = env.state().base_position;
+    for (int t = 0; t < 500; ++t) {  // 10 s at 50 Hz
+      BuildMotionObservation(env.state(), motion.data());
+      BuildPolicyObservation(motion.data(), previous.data(), skill, library.num_skills(), obs.data());
+      policy.Act(obs.data(), action.data());
+      previous = action;
+      const Termination ending = env.Step(action.data());
+      ASSERT_FALSE(IsFailure(ending)) << "skill " << skill << " fell at step " << t << ": " << ToString(ending);
+    }
+    EXPECT_GT(env.state().base_position.z(), 0.15) << "skill " << skill;
+    // A skill the library describes as moving does move.
+    const double travelled = (env.state().base_position - start).head<2>().norm();
+    EXPECT_GT(travelled, 0.5 * 10.0 * skills[n]->mean_linear_velocity.head<2>().norm()) << "skill " << skill;
+  }
+}
+
+}  // namespace
+}  // namespace flsd

@@ -92,6 +92,7 @@ void Controller::Tick() {
     pending_mode_ = flsd_msgs_MODE_IDLE;
     pending_ticks_ = 0;
     previous_action_.fill(0.0f);  // as at the start of a training episode
+    if (hierarchy_) hierarchy_->Reset();
   }
   JointCommand command;
   switch (mode_) {

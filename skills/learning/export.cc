@@ -165,6 +165,7 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
       {"hidden", config.policy.actor_hidden},
       {"activation", "elu"},
       {"layers", config.policy.actor_hidden.size() + 1},
+      {"decision_interval", config.decision_interval},
       {"observation",
        {{"motion", kMotionObsSize},
         {"command", kCommandSize},

@@ -41,8 +41,13 @@ int TaskPolicyObsSize(TaskMethod method) {
 
 void ValidateTaskTrainConfig(const TaskTrainConfig& config, const std::string& where) {
   try {
-    if (ParseTaskMethod(config.method) == TaskMethod::kSelector && config.library.empty()) {
+    const TaskMethod method = ParseTaskMethod(config.method);
+    if (method == TaskMethod::kSelector && config.library.empty()) {
       throw InputError("library: the selector needs a skill library to choose from (models/*.safetensors)");
+    }
+    if (method == TaskMethod::kScratch && config.decision_interval != 1) {
+      throw InputError("decision_interval: the scratch policy acts every control step; expected 1, got " +
+                       std::to_string(config.decision_interval));
     }
   } catch (const InputError& e) {
     throw InputError(where + ": " + e.what());
@@ -82,6 +87,7 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
   task_obs_.assign(n * kTaskObsSize, 0.0f);
   episode_return_.assign(n, 0.0);
   episode_length_.assign(n, 0);
+  ended_.assign(n, 0);
   const auto f = torch::kFloat32;
   const int64_t action_size = method_ == TaskMethod::kSelector ? 1 : kActionSize;
   const int64_t distribution_size = method_ == TaskMethod::kSelector ? library_->num_skills() : 2 * kActionSize;
@@ -145,42 +151,54 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
     rollout_.log_probs[t].copy_(policy_->LogProb(distribution, action));
     rollout_.values[t].copy_(policy_->Value(obs));
 
-    JointActions(action);
-    task_.Step(joint_actions_.data());
-
+    // One decision: the choice holds for decision_interval control steps, whose rewards it
+    // earns until its episode ends. Steps after such an end belong to the next episode (which
+    // they start under the old choice) and are not this transition's.
     float* rewards = rollout_.rewards[t].data_ptr<float>();
     float* dones = rollout_.dones[t].data_ptr<float>();
     float* timeouts = rollout_.timeouts[t].data_ptr<float>();
-    for (int i = 0; i < num_envs_; ++i) {
-      const Termination ending = task_.vec_env().termination()[i];
-      const VelocityRewardTerms& terms = task_.terms(i);
-      rewards[i] = task_.rewards()[i];
-      reward_sum += rewards[i];
-      lin_sum += terms.tracking_lin_vel;
-      ang_sum += terms.tracking_ang_vel;
-      // The tracking terms are exp(-e^2 / sigma): e^2 is recovered from them exactly.
-      lin_err2 += -std::log(std::max(terms.tracking_lin_vel, 1e-300)) * config_.task.reward.tracking_sigma;
-      ang_err2 += -std::log(std::max(terms.tracking_ang_vel, 1e-300)) * config_.task.reward.tracking_sigma;
-      episode_return_[i] += rewards[i];
-      ++episode_length_[i];
-      dones[i] = ending != Termination::kNone ? 1.0f : 0.0f;
-      timeouts[i] = ending == Termination::kTimeOut ? 1.0f : 0.0f;
-      float* previous = &previous_action_[i * kActionSize];
-      if (ending != Termination::kNone) {
-        ++ended;
-        length_sum += episode_length_[i];
-        return_sum += episode_return_[i];
-        falls += IsFailure(ending);
-        episode_return_[i] = 0.0;
-        episode_length_[i] = 0;
-        std::fill(previous, previous + kActionSize, 0.0f);
-      } else {
-        std::copy(&joint_actions_[i * kActionSize], &joint_actions_[(i + 1) * kActionSize], previous);
+    std::fill(rewards, rewards + num_envs_, 0.0f);
+    std::fill(dones, dones + num_envs_, 0.0f);
+    std::fill(timeouts, timeouts + num_envs_, 0.0f);
+    std::fill(ended_.begin(), ended_.end(), 0);
+    for (int k = 0; k < config_.decision_interval; ++k) {
+      JointActions(action);
+      task_.Step(joint_actions_.data());
+      for (int i = 0; i < num_envs_; ++i) {
+        const Termination ending = task_.vec_env().termination()[i];
+        const VelocityRewardTerms& terms = task_.terms(i);
+        const float reward = task_.rewards()[i];
+        if (!ended_[i]) rewards[i] += reward;
+        reward_sum += reward;
+        lin_sum += terms.tracking_lin_vel;
+        ang_sum += terms.tracking_ang_vel;
+        // The tracking terms are exp(-e^2 / sigma): e^2 is recovered from them exactly.
+        lin_err2 += -std::log(std::max(terms.tracking_lin_vel, 1e-300)) * config_.task.reward.tracking_sigma;
+        ang_err2 += -std::log(std::max(terms.tracking_ang_vel, 1e-300)) * config_.task.reward.tracking_sigma;
+        episode_return_[i] += reward;
+        ++episode_length_[i];
+        float* previous = &previous_action_[i * kActionSize];
+        if (ending != Termination::kNone) {
+          if (!ended_[i]) {
+            dones[i] = 1.0f;
+            timeouts[i] = ending == Termination::kTimeOut ? 1.0f : 0.0f;
+            ended_[i] = 1;
+          }
+          ++ended;
+          length_sum += episode_length_[i];
+          return_sum += episode_return_[i];
+          falls += IsFailure(ending);
+          episode_return_[i] = 0.0;
+          episode_length_[i] = 0;
+          std::fill(previous, previous + kActionSize, 0.0f);
+        } else {
+          std::copy(&joint_actions_[i * kActionSize], &joint_actions_[(i + 1) * kActionSize], previous);
+        }
       }
     }
   }
   last_values_ = policy_->Value(Observations(/*update_normalizer=*/false));
-  const double samples = static_cast<double>(steps_) * num_envs_;
+  const double samples = static_cast<double>(steps_) * num_envs_ * config_.decision_interval;
   stats.mean_reward = reward_sum / samples;
   stats.tracking_lin_vel = lin_sum / samples;
   stats.tracking_ang_vel = ang_sum / samples;
@@ -201,12 +219,12 @@ TaskIterationStats TaskTrainer::RunIteration() {
   stats.ppo = ppo_.Update(rollout_, ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda));
   stats.seconds_ppo = Since(phase);
   ++iteration_;
-  env_steps_ += static_cast<long>(steps_) * num_envs_;
+  env_steps_ += static_cast<long>(steps_) * num_envs_ * config_.decision_interval;
   stats.iteration = iteration_;
   stats.env_steps = env_steps_;
   stats.entropy_or_std = method_ == TaskMethod::kSelector ? stats.ppo.entropy : scratch_->Std().mean().item<double>();
   stats.seconds_total = Since(start);
-  stats.steps_per_s = steps_ * num_envs_ / stats.seconds_total;
+  stats.steps_per_s = static_cast<double>(steps_) * num_envs_ * config_.decision_interval / stats.seconds_total;
   stats.finite = stats.ppo.finite;
   return stats;
 }

@@ -27,7 +27,10 @@ struct TaskTrainConfig {
   int seed = 1;
   int num_envs = 128;
   int num_threads = 0;
-  int steps_per_env = 48;
+  int steps_per_env = 48;  // selector decisions (or scratch actions) per env per iteration
+  // Control steps (20 ms) the selector holds each chosen skill: 1 is the paper's (a choice every
+  // step); ETH D3's high level runs at 10 Hz, i.e. 5. The scratch policy acts every step.
+  int decision_interval = 1;
   int iterations = 500;
   int checkpoint_every = 25;
   EnvConfig env;
@@ -42,6 +45,7 @@ struct TaskTrainConfig {
     v("num_envs", num_envs, Bounds<int>{1, 1000000});
     v("num_threads", num_threads, Bounds<int>{0, 1024});
     v("steps_per_env", steps_per_env, Bounds<int>{1, 100000});
+    v("decision_interval", decision_interval, Bounds<int>{1, 1000});
     v("iterations", iterations, Bounds<int>{1, 100000000});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("env", env);
@@ -128,6 +132,7 @@ class TaskTrainer {
   std::vector<float> task_obs_;              // num_envs x kTaskObsSize
   std::vector<double> episode_return_;
   std::vector<int> episode_length_;
+  std::vector<unsigned char> ended_;  // per env: its episode ended during this decision
 
   Rollout rollout_;
   torch::Tensor raw_obs_, last_values_;

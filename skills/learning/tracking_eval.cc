@@ -31,6 +31,7 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
   for (const TrackingCase& c : StandardTrackingCases()) {
     Env env(*model, config, seed);
     env.Reset();
+    policy.Reset();
     TrackingResult r;
     r.tracked = {c.name, policy.Clip(c.command.data())};
     std::array<float, kMotionObsSize> motion{};

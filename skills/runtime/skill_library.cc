@@ -222,6 +222,8 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
       selector.command_min[a] = range[0];
       selector.command_max[a] = range[1];
     }
+    selector.decision_interval = m.Get<int>("/selector/decision_interval");
+    if (selector.decision_interval < 1) m.Fail("/selector/decision_interval", "must be at least 1");
     lib.selector_ = std::move(selector);
   }
 
@@ -299,13 +301,17 @@ std::array<double, 3> HierarchicalPolicy::Clip(const double* command) const {
 
 int HierarchicalPolicy::Act(const float* motion_obs, const double* command, const float* previous_action,
                             float* action) {
-  const std::array<double, 3> clipped = Clip(command);
-  BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
-  selector_.Run(task_obs_.data(), logits_.data());
-  const int skill = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
-  BuildPolicyObservation(motion_obs, previous_action, skill, library_.num_skills(), policy_obs_.data());
+  if (held_skill_ < 0 || ticks_held_ >= library_.selector()->decision_interval) {
+    const std::array<double, 3> clipped = Clip(command);
+    BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
+    selector_.Run(task_obs_.data(), logits_.data());
+    held_skill_ = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
+    ticks_held_ = 0;
+  }
+  ++ticks_held_;
+  BuildPolicyObservation(motion_obs, previous_action, held_skill_, library_.num_skills(), policy_obs_.data());
   policy_.Act(policy_obs_.data(), action);
-  return skill;
+  return held_skill_;
 }
 
 }  // namespace flsd

@@ -45,6 +45,7 @@ struct DenseNetwork {
 struct SelectorNetwork {
   DenseNetwork network;
   std::array<double, 3> command_min{}, command_max{};  // vx, vy, wz
+  int decision_interval = 1;  // control steps each chosen skill is held, as in training
 };
 
 class SkillLibrary {
@@ -99,9 +100,10 @@ class PolicyRunner {
   NetworkRunner runner_;
 };
 
-// The selector over the skills, as the paper runs it (Sec. IV-C): each control step the most
-// probable skill for (o^m, command) is chosen, and the skill policy acts under it. No heap
-// allocation per step. Throws InputError if the library has no selector.
+// The selector over the skills, as the paper runs it (Sec. IV-C): the most probable skill for
+// (o^m, command) is chosen every decision_interval control steps (every step in the paper) and
+// held in between, and the skill policy acts under it. No heap allocation per step. Throws
+// InputError if the library has no selector.
 class HierarchicalPolicy {
  public:
   explicit HierarchicalPolicy(const SkillLibrary& library);
@@ -109,6 +111,8 @@ class HierarchicalPolicy {
   // `command` (vx, vy, wz) is clipped to the trained ranges first. Writes the 12 joint actions
   // and returns the chosen skill.
   int Act(const float* motion_obs, const double* command, const float* previous_action, float* action);
+  // Forgets the held skill: the next Act chooses afresh (a new task).
+  void Reset() { held_skill_ = -1; }
   // The command as the selector sees it: clipped to the ranges it was trained on.
   std::array<double, 3> Clip(const double* command) const;
 
@@ -117,6 +121,7 @@ class HierarchicalPolicy {
   NetworkRunner selector_;
   PolicyRunner policy_;
   std::vector<float> task_obs_, logits_, policy_obs_;
+  int held_skill_ = -1, ticks_held_ = 0;
 };
 
 }  // namespace flsd

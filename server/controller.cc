@@ -36,7 +36,8 @@ void Controller::SubmitUrgent(const ControlRequest& request) {
   if (request.kind == ControlRequest::Kind::kDamp) {
     urgent_damp_ = request;
     have_urgent_damp_ = true;
-  } else {
+  } else if (!(request.only_this_task && have_urgent_stop_ && !urgent_stop_.only_this_task)) {
+    // A stop of one task never displaces a pending stop of whatever runs (a lapsed lease).
     urgent_stop_ = request;
     have_urgent_stop_ = true;
   }

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -65,9 +66,10 @@ void Navigator::Run() {
     if (quit_) break;
     const NavigationJob job = std::move(*next_);
     next_.reset();
+    const uint64_t generation = generation_;  // read with the job, so a newer Start is seen
     lock.unlock();
     try {
-      Navigate(job);
+      Navigate(job, generation);
     } catch (const std::exception& e) {  // never let a navigation take the server down
       Finish(job, flsd_msgs_TASK_CANCELLED, std::string("navigation failed: ") + e.what());
     }
@@ -92,12 +94,7 @@ bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, Plan
   return true;
 }
 
-void Navigator::Navigate(const NavigationJob& job) {
-  uint64_t generation;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    generation = generation_;
-  }
+void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const auto period = std::chrono::duration<double>(1.0 / config_.rate_hz);
@@ -112,6 +109,7 @@ void Navigator::Navigate(const NavigationJob& job) {
   bool seen = false;  // the controller applies the task's request at its next tick
   for (Clock::time_point next = Clock::now(); !Superseded(generation); next += std::chrono::duration_cast<Clock::duration>(period)) {
     std::this_thread::sleep_until(next);
+    next = std::max(next, Clock::now());  // after a long replan, go on from now rather than catch up
     status = controller_.status();
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
     if (!IsOurs(status, job)) {
@@ -135,6 +133,7 @@ void Navigator::Navigate(const NavigationJob& job) {
     if (command.off_path) {
       ++replans;
       spdlog::info("navigate: {:.2f} m off the path; replanning ({})", command.distance_to_path, replans);
+      Steer(job, Eigen::Vector3d::Zero(), "off the path: replanning");  // hold still while planning
       if (!Plan(job, position, path)) return;
       follower = WaypointFollower(path.waypoints, config_.follower);
       continue;

@@ -45,7 +45,7 @@ class Navigator {
 
  private:
   void Run();
-  void Navigate(const NavigationJob& job);
+  void Navigate(const NavigationJob& job, uint64_t generation);
   bool Plan(const NavigationJob& job, const Eigen::Vector2d& from, PlannedPath& path);
   void Finish(const NavigationJob& job, flsd_msgs_TaskState state, const std::string& message);
   void Steer(const NavigationJob& job, const Eigen::Vector3d& velocity, const std::string& progress);

@@ -148,7 +148,9 @@ ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const st
     ControlRequest stop;
     stop.kind = ControlRequest::Kind::kStop;
     SetText(stop.reason, "control released");
-    Submit(stop, client_id, request.header.request_id);
+    SetText(stop.client_id, client_id.c_str());
+    stop.request_id = request.header.request_id;
+    controller_.SubmitUrgent(stop);  // never lost to a full queue: nobody holds control now
     return Reply(flsd_msgs_STATUS_OK, "control released; the robot stands");
   }
   if (call == "damp") {  // the emergency stop: anyone may press it
@@ -269,6 +271,11 @@ ReplyContent RequestHandler::Velocity(const flsd_msgs_Request& request, const st
                       clipped, selector.command_min[a], selector.command_max[a]);
         accepted += text;
       }
+    }
+    const std::array<double, 3> seen = ClipCommand(selector, control.velocity.data());
+    if (seen[0] == 0.0 && seen[1] == 0.0 && (control.velocity[0] != 0.0 || control.velocity[1] != 0.0)) {
+      std::snprintf(text, sizeof text, "; vx and vy zeroed: slower than %.2f m/s, as in training", selector.min_planar_speed);
+      accepted += text;
     }
   } else {
     if (!AllFinite(request.goal, 2)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "goal must be finite");

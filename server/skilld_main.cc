@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     flsd::ControlRequest damp;
     damp.kind = flsd::ControlRequest::Kind::kDamp;
     flsd::SetText(damp.reason, "server shutting down");
-    controller.Submit(damp);
+    controller.SubmitUrgent(damp);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a few ticks of damping
     loop.Stop();
     spdlog::info("skilld stopped after {} ticks, {} deadline misses, {} replies", controller.status().tick,

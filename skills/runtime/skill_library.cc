@@ -222,6 +222,8 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
       selector.command_min[a] = range[0];
       selector.command_max[a] = range[1];
     }
+    selector.min_planar_speed = m.Get<double>("/selector/commands/min_planar_speed");
+    if (!(selector.min_planar_speed >= 0.0)) m.Fail("/selector/commands/min_planar_speed", "must be at least 0");
     selector.decision_interval = m.Get<int>("/selector/decision_interval");
     if (selector.decision_interval < 1) m.Fail("/selector/decision_interval", "must be at least 1");
     lib.selector_ = std::move(selector);
@@ -292,10 +294,10 @@ HierarchicalPolicy::HierarchicalPolicy(const SkillLibrary& library)
       logits_(library.num_skills()),
       policy_obs_(library.policy_obs_size()) {}
 
-std::array<double, 3> HierarchicalPolicy::Clip(const double* command) const {
-  const SelectorNetwork& s = *library_.selector();
+std::array<double, 3> ClipCommand(const SelectorNetwork& s, const double* command) {
   std::array<double, 3> clipped;
   for (int a = 0; a < 3; ++a) clipped[a] = std::clamp(command[a], s.command_min[a], s.command_max[a]);
+  if (std::hypot(clipped[0], clipped[1]) < s.min_planar_speed) clipped[0] = clipped[1] = 0.0;
   return clipped;
 }
 

@@ -45,8 +45,13 @@ struct DenseNetwork {
 struct SelectorNetwork {
   DenseNetwork network;
   std::array<double, 3> command_min{}, command_max{};  // vx, vy, wz
+  double min_planar_speed = 0.0;  // slower (vx, vy) commands were zeroed in training, and are here
   int decision_interval = 1;  // control steps each chosen skill is held, as in training
 };
+
+// A command (vx, vy, wz) as the selector sees it: clipped to the ranges it was trained on, its
+// planar part zeroed below the trained min_planar_speed.
+std::array<double, 3> ClipCommand(const SelectorNetwork& selector, const double* command);
 
 class SkillLibrary {
  public:
@@ -113,8 +118,7 @@ class HierarchicalPolicy {
   int Act(const float* motion_obs, const double* command, const float* previous_action, float* action);
   // Forgets the held skill: the next Act chooses afresh (a new task).
   void Reset() { held_skill_ = -1; }
-  // The command as the selector sees it: clipped to the ranges it was trained on.
-  std::array<double, 3> Clip(const double* command) const;
+  std::array<double, 3> Clip(const double* command) const { return ClipCommand(*library_.selector(), command); }
 
  private:
   const SkillLibrary& library_;

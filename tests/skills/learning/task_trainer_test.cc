@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -154,9 +155,41 @@ TEST_F(TaskTraining, TheExportedSelectorMatchesLibtorchAndRunsTheSkills) {
   EXPECT_LT(worst, 1e-4) << "Eigen and libtorch selector logits differ";
 }
 
+// A selector trained to hold each skill for 3 control steps is served the same way: a choice on
+// the first call and every third after, whatever the observations do in between; Reset forgets.
+TEST_F(TaskTraining, TheSelectorHoldsItsChoiceForItsDecisionInterval) {
+  config_.decision_interval = 3;
+  ASSERT_EQ(Train("held", 1), 0);
+  const std::string out = Path("held.safetensors");
+  ExportSelector(Path("held"), out);
+  const SkillLibrary library = SkillLibrary::Load(out);
+  ASSERT_EQ(library.selector()->decision_interval, 3);
+  HierarchicalPolicy hierarchy(library);
+  NetworkRunner selector(library.selector()->network);
+  torch::manual_seed(5);
+  const torch::Tensor motion = torch::randn({12, kMotionObsSize}) * 3.0;
+  const double command[3] = {0.6, -0.4, 0.5};
+  std::vector<float> action(kActionSize), previous(kActionSize, 0.0f), obs(kTaskObsSize), logits(library.num_skills());
+  for (int call = 0; call < 12; ++call) {
+    const float* m = motion[call].data_ptr<float>();
+    const int chosen = hierarchy.Act(m, command, previous.data(), action.data());
+    const int decision = call - call % 3;  // the call that made this choice
+    BuildTaskObservation(motion[decision].data_ptr<float>(), command, obs.data());
+    selector.Run(obs.data(), logits.data());
+    EXPECT_EQ(chosen, std::max_element(logits.begin(), logits.end()) - logits.begin()) << "call " << call;
+  }
+  hierarchy.Reset();
+  BuildTaskObservation(motion[1].data_ptr<float>(), command, obs.data());
+  selector.Run(obs.data(), logits.data());
+  EXPECT_EQ(hierarchy.Act(motion[1].data_ptr<float>(), command, previous.data(), action.data()),
+            std::max_element(logits.begin(), logits.end()) - logits.begin());
+}
+
 TEST_F(TaskTraining, ExportingAScratchRunIsRefused) {
   config_.method = "scratch";
   ASSERT_EQ(Train("scratch", 1), 0);
+  config_.decision_interval = 2;
+  EXPECT_THAT(InputErrorMessage([&] { Train("scratch2", 1); }), HasSubstr("decision_interval"));
   EXPECT_THAT(InputErrorMessage([&] { ExportSelector(Path("scratch"), Path("out.safetensors")); }),
               HasSubstr("only a selector run"));
 }

@@ -88,6 +88,7 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
   episode_return_.assign(n, 0.0);
   episode_length_.assign(n, 0);
   ended_.assign(n, 0);
+  last_choice_.assign(n, -1);
   const auto f = torch::kFloat32;
   const int64_t action_size = method_ == TaskMethod::kSelector ? 1 : kActionSize;
   const int64_t distribution_size = method_ == TaskMethod::kSelector ? library_->num_skills() : 2 * kActionSize;
@@ -139,7 +140,7 @@ void TaskTrainer::JointActions(const torch::Tensor& policy_action) {
 
 void TaskTrainer::Collect(TaskIterationStats& stats) {
   torch::NoGradGuard no_grad;
-  long ended = 0, length_sum = 0, falls = 0;
+  long ended = 0, length_sum = 0, falls = 0, switches = 0;
   double return_sum = 0.0, reward_sum = 0.0, lin_sum = 0.0, ang_sum = 0.0, lin_err2 = 0.0, ang_err2 = 0.0;
   for (int t = 0; t < steps_; ++t) {
     const torch::Tensor obs = Observations(/*update_normalizer=*/true);
@@ -161,6 +162,17 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
     std::fill(dones, dones + num_envs_, 0.0f);
     std::fill(timeouts, timeouts + num_envs_, 0.0f);
     std::fill(ended_.begin(), ended_.end(), 0);
+    if (method_ == TaskMethod::kSelector) {
+      const float* choice = action.data_ptr<float>();
+      for (int i = 0; i < num_envs_; ++i) {
+        const int chosen = static_cast<int>(choice[i]);
+        if (last_choice_[i] >= 0 && chosen != last_choice_[i]) {
+          ++switches;
+          rewards[i] += static_cast<float>(config_.switch_penalty * a1::kControlDt);
+        }
+        last_choice_[i] = chosen;
+      }
+    }
     for (int k = 0; k < config_.decision_interval; ++k) {
       JointActions(action);
       task_.Step(joint_actions_.data());
@@ -190,6 +202,7 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
           falls += IsFailure(ending);
           episode_return_[i] = 0.0;
           episode_length_[i] = 0;
+          last_choice_[i] = -1;
           std::fill(previous, previous + kActionSize, 0.0f);
         } else {
           std::copy(&joint_actions_[i * kActionSize], &joint_actions_[(i + 1) * kActionSize], previous);
@@ -208,6 +221,7 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
   stats.mean_episode_length = ended > 0 ? double(length_sum) / ended : 0.0;
   stats.mean_episode_return = ended > 0 ? return_sum / ended : 0.0;
   stats.fall_fraction = ended > 0 ? double(falls) / ended : 0.0;
+  stats.switches_per_s = switches / (samples * a1::kControlDt);
 }
 
 TaskIterationStats TaskTrainer::RunIteration() {
@@ -294,16 +308,16 @@ TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skill
 const char* const kTaskProgressHeader =
     "iteration,env_steps,steps_per_s,mean_reward,mean_episode_return,episodes_ended,mean_episode_length,"
     "fall_fraction,tracking_lin_vel,tracking_ang_vel,lin_vel_error,ang_vel_error,entropy_or_std,surrogate_loss,"
-    "value_loss,kl,learning_rate,seconds_collect,seconds_ppo,seconds_total";
+    "value_loss,kl,learning_rate,seconds_collect,seconds_ppo,seconds_total,switches_per_s";
 
 std::string TaskProgressRow(const TaskIterationStats& s) {
   char row[768];
   std::snprintf(row, sizeof(row),
-                "%d,%ld,%.1f,%.6f,%.4f,%d,%.2f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.3g,%.4f,%.4f,%.4f",
+                "%d,%ld,%.1f,%.6f,%.4f,%d,%.2f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.3g,%.4f,%.4f,%.4f,%.3f",
                 s.iteration, s.env_steps, s.steps_per_s, s.mean_reward, s.mean_episode_return, s.episodes_ended,
                 s.mean_episode_length, s.fall_fraction, s.tracking_lin_vel, s.tracking_ang_vel, s.lin_vel_error,
                 s.ang_vel_error, s.entropy_or_std, s.ppo.surrogate_loss, s.ppo.value_loss, s.ppo.kl,
-                s.ppo.learning_rate, s.seconds_collect, s.seconds_ppo, s.seconds_total);
+                s.ppo.learning_rate, s.seconds_collect, s.seconds_ppo, s.seconds_total, s.switches_per_s);
   return row;
 }
 
@@ -311,10 +325,10 @@ std::string TaskProgressLine(const TaskIterationStats& s, int total_iterations, 
   char line[512];
   std::snprintf(line, sizeof(line),
                 "it %d/%d | %.0f steps/s | ETA %s | reward/step %.4f | ep len %.0f (falls %.0f%%) | "
-                "v err %.3f m/s | w err %.3f rad/s | entropy/std %.3f | lr %.1e",
+                "v err %.3f m/s | w err %.3f rad/s | switches %.1f/s | entropy/std %.3f | lr %.1e",
                 s.iteration, total_iterations, s.steps_per_s, Duration(eta_seconds).c_str(), s.mean_reward,
                 s.mean_episode_length, 100.0 * s.fall_fraction, s.lin_vel_error, s.ang_vel_error,
-                s.entropy_or_std, s.ppo.learning_rate);
+                s.switches_per_s, s.entropy_or_std, s.ppo.learning_rate);
   return line;
 }
 

@@ -31,6 +31,10 @@ struct TaskTrainConfig {
   // Control steps (20 ms) the selector holds each chosen skill: 1 is the paper's (a choice every
   // step); ETH D3's high level runs at 10 Hz, i.e. 5. The scratch policy acts every step.
   int decision_interval = 1;
+  // Reward (x dt, like legged_gym's terms) per change of the chosen skill within an episode: not
+  // the paper's. Without it the selector changes skill ~40 times a second and the switches drive
+  // joints past the A1's speed limit. 0 turns it off.
+  double switch_penalty = 0.0;
   int iterations = 500;
   int checkpoint_every = 25;
   EnvConfig env;
@@ -46,6 +50,7 @@ struct TaskTrainConfig {
     v("num_threads", num_threads, Bounds<int>{0, 1024});
     v("steps_per_env", steps_per_env, Bounds<int>{1, 100000});
     v("decision_interval", decision_interval, Bounds<int>{1, 1000});
+    v("switch_penalty", switch_penalty, Bounds<double>{-1e3, 0.0});
     v("iterations", iterations, Bounds<int>{1, 100000000});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("env", env);
@@ -76,6 +81,7 @@ struct TaskIterationStats {
   double lin_vel_error = 0.0;         // RMS of |cmd_xy - v_xy|, m/s
   double ang_vel_error = 0.0;         // RMS of |cmd_wz - w_z|, rad/s
   double entropy_or_std = 0.0;        // the selector's entropy, or the scratch policy's mean std
+  double switches_per_s = 0.0;        // how often the selector changed skill within an episode
   PpoStats ppo;
   bool finite = true;
   double seconds_collect = 0.0, seconds_ppo = 0.0, seconds_total = 0.0;
@@ -133,6 +139,7 @@ class TaskTrainer {
   std::vector<double> episode_return_;
   std::vector<int> episode_length_;
   std::vector<unsigned char> ended_;  // per env: its episode ended during this decision
+  std::vector<int> last_choice_;      // per env: the selector's previous choice, -1 at an episode start
 
   Rollout rollout_;
   torch::Tensor raw_obs_, last_values_;

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <thread>
 
 #include "core/atomic_file.h"
@@ -54,6 +55,13 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
     config.method = options.method;
   }
   if (options.iterations > 0) config.iterations = options.iterations;
+  if (options.seed >= 0) {
+    if (options.resume && options.seed != config.seed) {
+      throw InputError("--seed " + std::to_string(options.seed) + " differs from the run's seed " +
+                       std::to_string(config.seed));
+    }
+    config.seed = options.seed;
+  }
   ValidateTrainConfig(config, folder.config_file);
   RecordRunStart(folder, ToYamlString(config), options.resume);
   ConfigureTorchThreads(config.num_threads);

@@ -10,6 +10,7 @@ struct TrainingRunOptions {
   std::string run_dir;
   bool resume = false;
   int iterations = 0;  // > 0: train until this many iterations in total
+  int seed = -1;       // >= 0: a new run's seed instead of the config's (another seed, same config)
 };
 
 // Trains in run_dir: config.yaml (the resolved config), checkpoint.pt (every checkpoint_every

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   train_cmd->add_flag("--resume", train.resume, "Continue the run in --out from its checkpoint");
   train_cmd->add_option("--iterations", train.iterations, "Train until this many iterations in total")
       ->check(CLI::Range(1, 100000000));
+  train_cmd->add_option("--seed", train.seed, "Seed of a new run (default: the config's)")->check(CLI::Range(0, 1 << 30));
 
   flsd::TaskRunOptions task;
   CLI::App* task_cmd = app.add_subcommand(

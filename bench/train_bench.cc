@@ -1,6 +1,13 @@
 #include "bench/train_bench.h"
 
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+
 #include "bench/machine.h"
+#include "core/check.h"
 #include "bench/sim_bench.h"
 #include "core/paths.h"
 #include "skills/learning/trainer.h"
@@ -11,15 +18,21 @@ namespace flsd {
 nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
   TrainConfig config = LoadTrainConfig(ResolveDataPath(options.config));
   if (!options.method.empty()) config.method = options.method;
+  if (options.threads > 0) config.num_threads = options.threads;
   ConfigureTorchThreads(config.num_threads);
-  Trainer trainer(config);
+  const Communicator& comm = Communicator::World();
+  Trainer trainer(config, comm);
   trainer.RunIteration();  // warm-up: first-touch allocations in libtorch and the rollout
 
   IterationStats sum;
+  Communicator::Tally collectives;
   double steps = 0.0, ceiling_steps = 0.0, ceiling_seconds = 0.0;
   for (int i = 0; i < options.iterations; ++i) {
     const IterationStats s = trainer.RunIteration();
     steps += static_cast<double>(config.num_envs) * config.steps_per_env;
+    collectives.seconds += s.collectives.seconds;
+    collectives.calls += s.collectives.calls;
+    collectives.bytes += s.collectives.bytes;
     sum.seconds_total += s.seconds_total;
     sum.seconds_physics += s.seconds_physics;
     sum.seconds_policy += s.seconds_policy;
@@ -34,13 +47,18 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
     ceiling_seconds += seconds;
   }
   const double rate = steps / sum.seconds_total;
-  const double ceiling = ceiling_steps / ceiling_seconds;
+  // Every rank measured the ceiling of its own share at once: the job's is their sum.
+  const double ceiling = comm.Sum(ceiling_steps / ceiling_seconds);
+  const double collective_seconds = comm.Sum(collectives.seconds) / comm.size();  // per rank, mean
+  if (!comm.leader()) return nullptr;
   auto share = [&](double part) { return part / sum.seconds_total; };
   return {
       {"benchmark", "train"},
       {"machine", MachineDescription()},
       {"config", options.config},
       {"method", config.method},
+      {"ranks", comm.size()},
+      {"threads_per_rank", config.num_threads},
       {"num_envs", config.num_envs},
       {"steps_per_env", config.steps_per_env},
       {"num_skills", config.num_skills},
@@ -49,6 +67,12 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
       {"env_steps_per_s", rate},
       {"physics_ceiling_steps_per_s", ceiling},
       {"ratio", rate / ceiling},
+      {"collectives_per_iteration",
+       {{"seconds", collective_seconds / options.iterations},
+        {"calls", collectives.calls / options.iterations},
+        {"bytes_per_rank", collectives.bytes / options.iterations}}},
+      {"rollout_seconds_per_iteration",
+       (sum.seconds_physics + sum.seconds_policy + sum.seconds_bookkeeping) / options.iterations},
       {"time_share",
        {{"physics", share(sum.seconds_physics)},
         {"policy_inference", share(sum.seconds_policy)},
@@ -58,6 +82,44 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
         {"pae_update", share(sum.seconds_pae)},
         {"discriminator_update", share(sum.seconds_discriminator)}}},
   };
+}
+
+namespace {
+
+// Runs `command` and parses the JSON object it prints (from its first line that opens one).
+nlohmann::json RunJsonCommand(const std::string& command) {
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) throw InputError("bench mpi: cannot run: " + command);
+  std::string output;
+  std::array<char, 4096> buffer;
+  while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  size_t json = output.rfind('{', 0) == 0 ? 0 : output.find("\n{");
+  if (json != 0 && json != std::string::npos) ++json;
+  if (status != 0 || json == std::string::npos) {
+    throw InputError("bench mpi: `" + command + "` failed (status " + std::to_string(status) + "):\n" + output);
+  }
+  return nlohmann::json::parse(output.substr(json));
+}
+
+}  // namespace
+
+nlohmann::json RunMpiBenchmark(const MpiBenchOptions& options) {
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  std::string train = " bench train --json --config " + options.train.config + " --iterations " +
+                      std::to_string(options.train.iterations);
+  if (!options.train.method.empty()) train += " --method " + options.train.method;
+  // Open MPI refuses root unless told; --oversubscribe lets a test machine run more ranks than cores.
+  const std::string mpirun = std::string("mpirun -np ") + std::to_string(options.ranks) + " --oversubscribe" +
+                             (geteuid() == 0 ? " --allow-run-as-root" : "");
+  const nlohmann::json threads = RunJsonCommand(self + train + " --threads " + std::to_string(options.ranks));
+  const nlohmann::json ranks = RunJsonCommand(mpirun + " " + self + train + " --threads 1");
+  return {{"benchmark", "train_mpi"},
+          {"machine", MachineDescription()},
+          {"ranks_x_1_thread", ranks},
+          {"1_rank_x_threads", threads},
+          {"ratio", ranks["env_steps_per_s"].get<double>() / threads["env_steps_per_s"].get<double>()},
+          {"target", 0.9}};
 }
 
 }  // namespace flsd

@@ -109,6 +109,11 @@ void SvgPlot::Polygon(const std::vector<double>& xs, const std::vector<double>& 
   body_ += "<polygon points=\"" + points + "\" fill=\"" + fill + "\"/>\n";
 }
 
+void SvgPlot::Dot(double x, double y, double pixels, const std::string& fill) {
+  body_ += "<circle cx=\"" + Number(X(x)) + "\" cy=\"" + Number(Y(y)) + "\" r=\"" + Number(pixels) + "\" fill=\"" + fill +
+           "\"/>\n";
+}
+
 void SvgPlot::Marker(double x, double y, const std::string& color, const std::string& name) {
   body_ += "<circle cx=\"" + Number(X(x)) + "\" cy=\"" + Number(Y(y)) + "\" r=\"6\" fill=\"" + color +
            "\" stroke=\"black\"/>\n";

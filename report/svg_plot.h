@@ -28,6 +28,10 @@ class SvgPlot {
             const std::string& name = "", double width = 2.0, bool dashed = false);
   void Circle(double x, double y, double radius, const std::string& fill, const std::string& name = "");
   void Polygon(const std::vector<double>& xs, const std::vector<double>& ys, const std::string& fill);
+  // A legend entry without a mark in the plot (scatter plots, bands).
+  void Legend(const std::string& name, const std::string& color) { legend_.emplace_back(name, color); }
+  // A dot of `pixels` radius (scatter plots).
+  void Dot(double x, double y, double pixels, const std::string& fill);
   // A marker of fixed pixel size (start, goal).
   void Marker(double x, double y, const std::string& color, const std::string& name);
 

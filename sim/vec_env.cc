@@ -5,11 +5,11 @@
 
 namespace flsd {
 
-VecEnv::VecEnv(const EnvConfig& config, int num_envs, uint64_t seed, int num_threads)
+VecEnv::VecEnv(const EnvConfig& config, int num_envs, uint64_t seed, int num_threads, int first_env)
     : model_(LoadMjModel(config.model)), pool_(num_threads) {
   if (num_envs < 1) throw InputError("VecEnv: num_envs must be at least 1, got " + std::to_string(num_envs));
   envs_.reserve(num_envs);
-  for (int i = 0; i < num_envs; ++i) envs_.emplace_back(*model_, config, StreamSeed(seed, i));
+  for (int i = 0; i < num_envs; ++i) envs_.emplace_back(*model_, config, StreamSeed(seed, first_env + i));
   motion_obs_.assign(num_envs * kMotionObsSize, 0.0f);
   terminal_motion_obs_.assign(num_envs * kMotionObsSize, 0.0f);
   position_.assign(num_envs * 3, 0.0f);

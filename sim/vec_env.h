@@ -11,9 +11,10 @@ namespace flsd {
 
 class VecEnv {
  public:
-  // Env i draws from its own random stream StreamSeed(seed, i), so results depend on the seed
-  // alone, not on the thread count.
-  VecEnv(const EnvConfig& config, int num_envs, uint64_t seed, int num_threads);
+  // Env i draws from its own random stream StreamSeed(seed, first_env + i), so results depend on
+  // the seed alone, not on the thread count; a data-parallel rank holding envs [first_env,
+  // first_env + num_envs) of a larger batch draws what those envs would have drawn in one process.
+  VecEnv(const EnvConfig& config, int num_envs, uint64_t seed, int num_threads, int first_env = 0);
 
   int num_envs() const { return static_cast<int>(envs_.size()); }
   int num_threads() const { return pool_.num_threads(); }

@@ -84,13 +84,7 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
     }
     if (!any) break;
   }
-  const double rate = 1.0 / a1::kControlDt;
-  for (const SkillTrajectory& s : eval.trajectories) {
-    eval.skills.push_back(SummarizeSkill(s, rate));
-    eval.survivors += static_cast<int>(s.points.size()) > kCoverageMinSurvival;
-  }
-  eval.coverage = StateCoverage(eval.trajectories);
-  eval.high_frequency = HighFrequencyPowerRatio(eval.trajectories, rate);
+  ComputeMetrics(eval, 1.0 / a1::kControlDt);
   return eval;
 }
 

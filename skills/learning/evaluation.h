@@ -20,17 +20,6 @@ struct EvaluationOptions {
   uint64_t seed = 1;
 };
 
-struct Evaluation {
-  std::string method;
-  int steps = 0;
-  bool randomized = false;
-  std::vector<SkillTrajectory> trajectories;  // one per skill, up to its first termination
-  std::vector<SkillSummary> skills;
-  int survivors = 0;  // skills that ran more than kCoverageMinSurvival steps
-  CoverageResult coverage;
-  HighFrequencyResult high_frequency;
-};
-
 Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
                           const EvaluationOptions& options);
 

@@ -15,10 +15,8 @@ std::array<double, kCoverageDims> CoverageState(const TrajectoryPoint& p) {
 
 constexpr int CellsPerDim() { return static_cast<int>(2.0 / kCoverageCell); }
 
-// Cell index of a value along dimension d: [-1, 1] in steps of kCoverageCell, clamped at the ends.
-int CellOf(int d, double x) {
-  const CoverageRange& r = kCoverageRanges[d];
-  const double normalised = 2.0 * (x - r.lo) / (r.hi - r.lo) - 1.0;
+// Cell index of a normalised value: [-1, 1] in steps of kCoverageCell, clamped at the ends.
+int CellOf(double normalised) {
   const int cell = static_cast<int>(std::floor((normalised + 1.0) / kCoverageCell));
   return std::clamp(cell, 0, CellsPerDim() - 1);
 }
@@ -46,6 +44,15 @@ std::vector<double> JointSeries(const SkillTrajectory& s, int joint, bool veloci
 
 }  // namespace
 
+std::array<double, kCoverageDims> NormalizedCoverageState(const TrajectoryPoint& p) {
+  std::array<double, kCoverageDims> x = CoverageState(p);
+  for (int d = 0; d < kCoverageDims; ++d) {
+    const CoverageRange& r = kCoverageRanges[d];
+    x[d] = 2.0 * (x[d] - r.lo) / (r.hi - r.lo) - 1.0;
+  }
+  return x;
+}
+
 CoverageResult StateCoverage(const std::vector<SkillTrajectory>& skills) {
   CoverageResult r;
   r.max.fill(-INFINITY);
@@ -57,11 +64,12 @@ CoverageResult StateCoverage(const std::vector<SkillTrajectory>& skills) {
     ++r.skills_counted;
     for (const TrajectoryPoint& p : s.points) {
       const std::array<double, kCoverageDims> x = CoverageState(p);
+      const std::array<double, kCoverageDims> normalised = NormalizedCoverageState(p);
       long key = 0;
       for (int d = 0; d < kCoverageDims; ++d) {
         r.max[d] = std::max(r.max[d], x[d]);
         r.min[d] = std::min(r.min[d], x[d]);
-        const int cell = CellOf(d, x[d]);
+        const int cell = CellOf(normalised[d]);
         dim_cells[d].insert(cell);
         key = key * CellsPerDim() + cell;
       }
@@ -174,6 +182,17 @@ SkillSummary SummarizeSkill(const SkillTrajectory& s, double rate_hz) {
   r.displacement = {s.points.back().position[0] - s.points.front().position[0],
                     s.points.back().position[1] - s.points.front().position[1]};
   return r;
+}
+
+void ComputeMetrics(Evaluation& e, double rate_hz) {
+  e.skills.clear();
+  e.survivors = 0;
+  for (const SkillTrajectory& s : e.trajectories) {
+    e.skills.push_back(SummarizeSkill(s, rate_hz));
+    e.survivors += static_cast<int>(s.points.size()) > kCoverageMinSurvival;
+  }
+  e.coverage = StateCoverage(e.trajectories);
+  e.high_frequency = HighFrequencyPowerRatio(e.trajectories, rate_hz);
 }
 
 }  // namespace flsd

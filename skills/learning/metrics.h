@@ -63,6 +63,8 @@ struct CoverageResult {
   std::array<double, kCoverageDims> dim_rate{};    // 1-D coverage of each dimension alone
 };
 CoverageResult StateCoverage(const std::vector<SkillTrajectory>& skills);
+// A point's coverage dimensions mapped by kCoverageRanges to [-1, 1] (not clamped).
+std::array<double, kCoverageDims> NormalizedCoverageState(const TrajectoryPoint& p);
 
 // One-sided power spectral density of x sampled at rate_hz (periodogram, (rad/s)^2/Hz):
 // element j is the density at j * rate_hz / n, j = 0..n/2.
@@ -94,5 +96,19 @@ struct SkillSummary {
   std::array<double, 2> displacement{};  // world x, y, m
 };
 SkillSummary SummarizeSkill(const SkillTrajectory& skill, double rate_hz);
+
+// One rollout of every skill and the paper's metrics over it (flsd eval, flsd report).
+struct Evaluation {
+  std::string method;
+  int steps = 0;
+  bool randomized = false;
+  std::vector<SkillTrajectory> trajectories;  // one per skill, up to its first termination
+  std::vector<SkillSummary> skills;
+  int survivors = 0;  // skills that ran more than kCoverageMinSurvival steps
+  CoverageResult coverage;
+  HighFrequencyResult high_frequency;
+};
+// Fills skills, survivors, coverage and high_frequency from the trajectories.
+void ComputeMetrics(Evaluation& evaluation, double rate_hz);
 
 }  // namespace flsd

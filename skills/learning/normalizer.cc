@@ -34,6 +34,28 @@ torch::Tensor RunningNormalizerImpl::Normalize(const torch::Tensor& x) const {
   return ((x.to(torch::kFloat64) - mean_) / Std()).to(torch::kFloat32);
 }
 
+void UpdateNormalizer(RunningNormalizer& normalizer, const torch::Tensor& batch, const Communicator& comm) {
+  if (comm.size() == 1) {
+    normalizer->Update(batch);
+    return;
+  }
+  const torch::Tensor x = batch.to(torch::kFloat64);
+  const int64_t size = x.size(1);
+  // Each rank's count, mean and population variance, side by side.
+  std::vector<double> local(1 + 2 * size);
+  local[0] = static_cast<double>(x.size(0));
+  const torch::Tensor mean = x.mean(0).contiguous(), variance = x.var(0, /*unbiased=*/false).contiguous();
+  std::copy(mean.data_ptr<double>(), mean.data_ptr<double>() + size, local.begin() + 1);
+  std::copy(variance.data_ptr<double>(), variance.data_ptr<double>() + size, local.begin() + 1 + size);
+  std::vector<double> all = comm.Gather(local);
+  const auto float64 = torch::TensorOptions().dtype(torch::kFloat64);
+  for (int r = 0; r < comm.size(); ++r) {
+    double* stats = all.data() + r * local.size();
+    normalizer->Merge(stats[0], torch::from_blob(stats + 1, {size}, float64),
+                      torch::from_blob(stats + 1 + size, {size}, float64));
+  }
+}
+
 torch::Tensor NormalizeLeadingColumns(const RunningNormalizer& normalizer, const torch::Tensor& x) {
   const int64_t n = normalizer->size();
   return torch::cat({normalizer->Normalize(x.slice(1, 0, n)), x.slice(1, n)}, 1);

@@ -1,6 +1,8 @@
 #pragma once
 #include <torch/torch.h>
 
+#include "skills/learning/communicator.h"
+
 namespace flsd {
 
 // Running mean and variance of observations, for normalising network inputs. Statistics are kept
@@ -32,6 +34,10 @@ class RunningNormalizerImpl : public torch::nn::Module {
   torch::Tensor mean_, variance_, count_;  // float64 buffers, saved with checkpoints
 };
 TORCH_MODULE(RunningNormalizer);
+
+// Adds every rank's batch [B, size] to the statistics of every rank, merged in rank order: what
+// one process adding the whole batch would get (the merge is exact for any grouping).
+void UpdateNormalizer(RunningNormalizer& normalizer, const torch::Tensor& batch, const Communicator& comm);
 
 // Normalises the first normalizer->size() columns of x [B, >= size] and passes the rest through:
 // the policy's o^m and previous action are normalised, its one-hot skill is not.

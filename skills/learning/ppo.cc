@@ -12,7 +12,8 @@ torch::Tensor Flat(const torch::Tensor& x) {
 
 }  // namespace
 
-Returns ComputeReturns(const Rollout& r, const torch::Tensor& last_values, double gamma, double lambda) {
+Returns ComputeReturns(const Rollout& r, const torch::Tensor& last_values, double gamma, double lambda,
+                       const Communicator& comm) {
   torch::NoGradGuard no_grad;
   const int64_t steps = r.rewards.size(0);
   const torch::Tensor rewards = r.rewards + gamma * r.values * r.timeouts;
@@ -28,13 +29,20 @@ Returns ComputeReturns(const Rollout& r, const torch::Tensor& last_values, doubl
     next_value = r.values[t];
   }
   const torch::Tensor raw = out.returns - r.values;
-  out.advantages = (raw - raw.mean()) / (raw.std() + 1e-8);
+  // Mean and (unbiased) std over all ranks' transitions, from their sums.
+  double moments[3] = {static_cast<double>(raw.numel()), raw.sum().item<double>(),
+                       raw.to(torch::kFloat64).pow(2).sum().item<double>()};
+  comm.Sum(moments, 3);
+  const double mean = moments[1] / moments[0];
+  const double std = std::sqrt(std::max(0.0, (moments[2] - moments[0] * mean * mean) / (moments[0] - 1.0)));
+  out.advantages = (raw - mean) / (std + 1e-8);
   return out;
 }
 
-Ppo::Ppo(std::shared_ptr<PpoPolicyImpl> policy, const PpoConfig& config)
+Ppo::Ppo(std::shared_ptr<PpoPolicyImpl> policy, const PpoConfig& config, const Communicator& comm)
     : policy_(std::move(policy)),
       config_(config),
+      comm_(comm),
       optimizer_(policy_->parameters(), torch::optim::AdamOptions(config.learning_rate)),
       learning_rate_(config.learning_rate) {}
 
@@ -65,7 +73,8 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
       if (config_.adaptive_learning_rate) {
         torch::NoGradGuard no_grad;
         const double kl_value =
-            policy_->Kl(old_distributions.index_select(0, idx), distribution).mean().item<double>();
+            comm_.Sum(policy_->Kl(old_distributions.index_select(0, idx), distribution).mean().item<double>()) /
+            comm_.size();
         stats.kl += kl_value;
         if (kl_value > 2.0 * config_.desired_kl) {
           set_learning_rate(std::max(1e-5, learning_rate_ / 1.5));
@@ -89,12 +98,13 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
       const torch::Tensor loss =
           surrogate + config_.value_coef * value_loss - config_.entropy_coef * entropy;
 
-      if (!torch::isfinite(loss).item<bool>()) {
+      if (comm_.Any(!torch::isfinite(loss).item<bool>())) {
         stats.finite = false;
         return stats;
       }
       optimizer_.zero_grad();
       loss.backward();
+      comm_.AverageGradients(policy_->parameters());
       torch::nn::utils::clip_grad_norm_(policy_->parameters(), config_.max_grad_norm);
       optimizer_.step();
 
@@ -105,9 +115,11 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
     }
   }
   if (updates > 0) {
-    stats.surrogate_loss /= updates;
-    stats.value_loss /= updates;
-    stats.entropy /= updates;
+    double losses[3] = {stats.surrogate_loss, stats.value_loss, stats.entropy};
+    comm_.Sum(losses, 3);  // the mean over the ranks' minibatches
+    stats.surrogate_loss = losses[0] / (updates * comm_.size());
+    stats.value_loss = losses[1] / (updates * comm_.size());
+    stats.entropy = losses[2] / (updates * comm_.size());
     stats.kl /= updates;
   }
   stats.learning_rate = learning_rate_;

@@ -8,6 +8,7 @@
 
 #include "core/config.h"
 #include "skills/learning/actor_critic.h"
+#include "skills/learning/communicator.h"
 
 namespace flsd {
 
@@ -59,8 +60,9 @@ struct Returns {
 
 // GAE(lambda) returns and advantages; last_values [N] are V of the observations after the last
 // step. On a time-out, gamma V(s_t) is added to r_t, as rsl_rl does, since the episode did not
-// really end there.
-Returns ComputeReturns(const Rollout& rollout, const torch::Tensor& last_values, double gamma, double lambda);
+// really end there. Advantages are normalised over the batch of every rank in `comm`.
+Returns ComputeReturns(const Rollout& rollout, const torch::Tensor& last_values, double gamma, double lambda,
+                       const Communicator& comm = Communicator::Self());
 
 struct PpoStats {
   double surrogate_loss = 0.0;
@@ -71,9 +73,12 @@ struct PpoStats {
   bool finite = true;  // false when a loss turned NaN or infinite; no step was taken then
 };
 
+// With several ranks in `comm`, each updates on its own share of the rollout: the ranks average
+// their gradients before every step and their KL before adapting the learning rate, so all keep
+// the same parameters and learning rate.
 class Ppo {
  public:
-  Ppo(std::shared_ptr<PpoPolicyImpl> policy, const PpoConfig& config);
+  Ppo(std::shared_ptr<PpoPolicyImpl> policy, const PpoConfig& config, const Communicator& comm = Communicator::Self());
 
   PpoStats Update(const Rollout& rollout, const Returns& returns);
 
@@ -85,6 +90,7 @@ class Ppo {
  private:
   std::shared_ptr<PpoPolicyImpl> policy_;
   PpoConfig config_;
+  const Communicator& comm_;
   torch::optim::Adam optimizer_;
   double learning_rate_;
 };

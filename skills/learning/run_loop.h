@@ -6,8 +6,10 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <optional>
 #include <string>
 
+#include "skills/learning/communicator.h"
 #include "skills/learning/progress_log.h"
 
 namespace flsd {
@@ -26,21 +28,25 @@ void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, boo
 // Runs trainer.RunIteration() until `iterations` or a stop request, appending `row(stats)` to
 // progress.csv and `line(stats, eta_seconds)` to the log, and checkpointing every
 // `checkpoint_every` iterations and at the end. Returns 0, or 3 when stats.finite turned false
-// (the last good checkpoint is kept as it was).
+// (the last good checkpoint is kept as it was). With several ranks in `comm`, every rank iterates
+// and only the leader writes; a stop requested on any rank stops them all after the same iteration.
 template <class Trainer, class Row, class Line>
-int RunIterations(Trainer& trainer, const RunFolder& folder, const std::string& header, int iterations,
-                  int checkpoint_every, const std::atomic<bool>& stop_requested, Row row, Line line) {
-  ProgressLog log(folder.progress, header, trainer.iteration());
+int RunIterations(Trainer& trainer, const Communicator& comm, const RunFolder& folder, const std::string& header,
+                  int iterations, int checkpoint_every, const std::atomic<bool>& stop_requested, Row row, Line line) {
+  std::optional<ProgressLog> log;
+  if (comm.leader()) log.emplace(folder.progress, header, trainer.iteration());
   double seconds_per_iteration = 0.0;
   int saved_iteration = trainer.iteration();
-  while (trainer.iteration() < iterations && !stop_requested) {
+  bool stopped = false;
+  while (trainer.iteration() < iterations && !(stopped = comm.Any(stop_requested))) {
     const auto stats = trainer.RunIteration();
     if (!stats.finite) {
       spdlog::error("iteration {}: a loss became NaN or infinite; stopping. {} is kept as it was at iteration {}",
                     stats.iteration, folder.checkpoint, saved_iteration);
       return 3;
     }
-    log.Append(row(stats));
+    if (!comm.leader()) continue;
+    log->Append(row(stats));
     seconds_per_iteration = seconds_per_iteration == 0.0 ? stats.seconds_total
                                                          : 0.9 * seconds_per_iteration + 0.1 * stats.seconds_total;
     spdlog::info("{}", line(stats, seconds_per_iteration * (iterations - stats.iteration)));
@@ -49,8 +55,9 @@ int RunIterations(Trainer& trainer, const RunFolder& folder, const std::string& 
       saved_iteration = stats.iteration;
     }
   }
+  if (!comm.leader()) return 0;
   if (saved_iteration != trainer.iteration()) trainer.SaveCheckpoint(folder.checkpoint);
-  spdlog::info("{} at iteration {}; checkpoint {}", stop_requested ? "stopped" : "finished", trainer.iteration(),
+  spdlog::info("{} at iteration {}; checkpoint {}", stopped ? "stopped" : "finished", trainer.iteration(),
                folder.checkpoint);
   return 0;
 }

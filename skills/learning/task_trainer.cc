@@ -357,7 +357,7 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
                  config.steps_per_env, config.iterations);
   }
   return RunIterations(
-      trainer, folder, kTaskProgressHeader, config.iterations, config.checkpoint_every, stop_requested,
+      trainer, Communicator::Self(), folder, kTaskProgressHeader, config.iterations, config.checkpoint_every, stop_requested,
       [](const TaskIterationStats& s) { return TaskProgressRow(s); },
       [&](const TaskIterationStats& s, double eta) { return TaskProgressLine(s, config.iterations, eta); });
 }

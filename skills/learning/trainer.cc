@@ -37,43 +37,62 @@ const TrainConfig& SeedTorch(const TrainConfig& config) {
 
 bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
 
-// `epochs` passes over `samples` (row indices) in shuffled minibatches, one optimiser step each.
-// Returns the mean loss, or NaN, without stepping, as soon as a loss is not finite.
-double TrainEpochs(torch::optim::Optimizer& optimizer, const torch::Tensor& samples, int epochs,
-                   int64_t minibatch, const std::function<torch::Tensor(const torch::Tensor&)>& loss_of) {
+// This rank's share of the envs; every rank must hold as many.
+int LocalEnvs(const TrainConfig& config, const Communicator& comm) {
+  if (config.num_envs % comm.size() != 0) {
+    throw InputError("num_envs " + std::to_string(config.num_envs) + " does not divide among " +
+                     std::to_string(comm.size()) + " ranks: give a multiple of the rank count");
+  }
+  return config.num_envs / comm.size();
+}
+
+constexpr uint64_t kSkillStream = 1000003;  // the skill draws' seed offset from the run's seed
+
+std::vector<torch::Tensor> Parameters(const torch::optim::Optimizer& optimizer) {
+  std::vector<torch::Tensor> all;
+  for (const auto& group : optimizer.param_groups()) all.insert(all.end(), group.params().begin(), group.params().end());
+  return all;
+}
+
+}  // namespace
+
+double TrainEpochs(torch::optim::Optimizer& optimizer, const Communicator& comm, const torch::Tensor& samples,
+                   int epochs, int64_t minibatch, const std::function<torch::Tensor(const torch::Tensor&)>& loss_of) {
   const int64_t n = samples.size(0);
+  const int64_t share = std::max<int64_t>(1, minibatch / comm.size());
+  const std::vector<torch::Tensor> parameters = Parameters(optimizer);
   double loss_sum = 0.0;
   int updates = 0;
   for (int epoch = 0; epoch < epochs; ++epoch) {
     const torch::Tensor order = samples.index_select(0, torch::randperm(n, torch::kLong));
-    for (int64_t begin = 0; begin < n; begin += minibatch) {
-      const torch::Tensor loss = loss_of(order.slice(0, begin, std::min(n, begin + minibatch)));
-      if (!Finite(loss)) return NAN;
+    for (int64_t begin = 0; begin < n; begin += share) {
+      const torch::Tensor loss = loss_of(order.slice(0, begin, std::min(n, begin + share)));
+      if (comm.Any(!Finite(loss))) return NAN;
       optimizer.zero_grad();
       loss.backward();
+      comm.AverageGradients(parameters);
       optimizer.step();
       loss_sum += loss.item<double>();
       ++updates;
     }
   }
-  return updates > 0 ? loss_sum / updates : 0.0;
+  return updates > 0 ? comm.Sum(loss_sum / updates) / comm.size() : 0.0;
 }
 
-}  // namespace
-
-Trainer::Trainer(const TrainConfig& config)
+Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
     : config_(SeedTorch(config)),
+      comm_(comm),
       method_(ParseMethod(config.method)),
-      num_envs_(config.num_envs),
+      num_envs_(LocalEnvs(config, comm)),
       steps_(config.steps_per_env),
       policy_obs_size_(PolicyObservationSize(config.num_skills)),
       critic_obs_size_(PolicyObservationSize(config.num_skills) + 2),
-      vec_(config.env, config.num_envs, config.seed, ResolveThreadCount(config.num_threads)),
+      vec_(config.env, num_envs_, config.seed, ResolveThreadCount(config.num_threads), comm.rank() * num_envs_),
       policy_(policy_obs_size_, critic_obs_size_, kActionSize, config.policy),
       normalizer_(kNormalizedObs),
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config.pae), config.num_skills, config.discriminator),
-      ppo_(policy_.ptr(), config.ppo),
+      ppo_(policy_.ptr(), config.ppo, comm),
       pae_optimizer_(pae_->parameters(),
                      torch::optim::AdamWOptions(config.pae.learning_rate).weight_decay(config.pae.weight_decay)),
       discriminator_optimizer_(discriminator_->parameters(),
@@ -87,8 +106,11 @@ Trainer::Trainer(const TrainConfig& config)
   ended_.assign(n, 0);
   ended_length_sum_.assign(n, 0);
   ended_falls_.assign(n, 0);
+  // Every rank drew the same initial parameters from the seed; from here each draws its own
+  // actions and minibatches.
+  if (comm.rank() > 0) torch::manual_seed(StreamSeed(config.seed, comm.rank()));
   for (int i = 0; i < n; ++i) {
-    skill_rng_.emplace_back(StreamSeed(config.seed + 1000003ULL, i));
+    skill_rng_.emplace_back(StreamSeed(config.seed + kSkillStream, comm.rank() * n + i));
     skill_[i] = std::uniform_int_distribution<int>(0, config.num_skills - 1)(skill_rng_[i]);
     history_.emplace_back(config.window);
     history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
@@ -121,7 +143,7 @@ torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
     BuildPolicyObservation(vec_.motion_obs() + i * kMotionObsSize, &previous_action_[i * kActionSize],
                            skill_[i], config_.num_skills, raw + i * policy_obs_size_);
   }
-  if (update_normalizer) normalizer_->Update(raw_obs_.slice(1, 0, kNormalizedObs));
+  if (update_normalizer) UpdateNormalizer(normalizer_, raw_obs_.slice(1, 0, kNormalizedObs), comm_);
   return NormalizeLeadingColumns(normalizer_, raw_obs_);
 }
 
@@ -164,15 +186,16 @@ void Trainer::CollectRollout(IterationStats& stats) {
   last_values_ = policy_->Value(CriticObservations(obs, vec_.position()));
   stats.seconds_policy += Since(start);
 
-  long episodes = 0, length_sum = 0, falls = 0;
+  double ended[3] = {0.0, 0.0, 0.0};  // episodes, their lengths, falls: over all ranks
   for (int i = 0; i < num_envs_; ++i) {
-    episodes += ended_[i];
-    length_sum += ended_length_sum_[i];
-    falls += ended_falls_[i];
+    ended[0] += ended_[i];
+    ended[1] += ended_length_sum_[i];
+    ended[2] += ended_falls_[i];
   }
-  stats.episodes_ended = static_cast<int>(episodes);
-  stats.mean_episode_length = episodes > 0 ? double(length_sum) / episodes : 0.0;
-  stats.fall_fraction = episodes > 0 ? double(falls) / episodes : 0.0;
+  comm_.Sum(ended, 3);
+  stats.episodes_ended = static_cast<int>(ended[0]);
+  stats.mean_episode_length = ended[0] > 0 ? ended[1] / ended[0] : 0.0;
+  stats.fall_fraction = ended[0] > 0 ? ended[2] / ended[0] : 0.0;
 }
 
 void Trainer::AfterStep(int t, const float* actions) {
@@ -251,11 +274,16 @@ void Trainer::ComputeRewards(IterationStats& stats) {
   const torch::Tensor skills = skills_.view({count});
   const torch::Tensor log_probs = discriminator_->LogProbs(discriminator_obs_);
   const torch::Tensor reward = IntrinsicReward(log_probs, skills);
-  stats.intrinsic_reward = reward.mean().item<double>();
-  stats.discriminator_accuracy = (log_probs.argmax(1) == skills).to(torch::kFloat32).mean().item<double>();
+  // Means over all ranks (each holds as many transitions).
+  double means[3] = {reward.mean().item<double>(),
+                     (log_probs.argmax(1) == skills).to(torch::kFloat32).mean().item<double>(),
+                     penalties_.mean().item<double>()};
+  comm_.Sum(means, 3);
+  stats.intrinsic_reward = means[0] / comm_.size();
+  stats.discriminator_accuracy = means[1] / comm_.size();
+  stats.regularization = means[2] / comm_.size();
   // As legged_gym clips its total: penalties included, so that no step pays less than ending.
   const torch::Tensor total = config_.reward_scale * reward + penalties_.view({count});
-  stats.regularization = penalties_.mean().item<double>();
   rollout_.rewards.copy_((config_.only_positive_rewards ? total.clamp_min(0.0) : total).view({steps_, num_envs_}));
 }
 
@@ -265,7 +293,7 @@ double Trainer::UpdatePae() {
   const int64_t sampled = std::max<int64_t>(1, std::llround(c.sample_fraction * count));
   const torch::Tensor windows = windows_.view({count, kMotionObsSize, config_.window});
   const torch::Tensor chosen = torch::randperm(count, torch::kLong).slice(0, 0, sampled);
-  return TrainEpochs(pae_optimizer_, chosen, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
+  return TrainEpochs(pae_optimizer_, comm_, chosen, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
     const torch::Tensor x = windows.index_select(0, idx);
     return pae_->Loss(x, pae_->Forward(x));  // Eq. 3
   });
@@ -276,7 +304,7 @@ double Trainer::UpdateDiscriminator() {
   const int64_t count = discriminator_obs_.size(0);
   const torch::Tensor skills = skills_.view({count});
   const torch::Tensor all = torch::arange(count, torch::kLong);
-  return TrainEpochs(discriminator_optimizer_, all, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
+  return TrainEpochs(discriminator_optimizer_, comm_, all, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
     // Eq. 12 on (o^d, k) pairs of this rollout.
     return DiscriminatorLoss(discriminator_->LogProbs(discriminator_obs_.index_select(0, idx)), skills.index_select(0, idx));
   });
@@ -292,7 +320,8 @@ IterationStats Trainer::RunIteration() {
   stats.seconds_reward = Since(phase);
 
   phase = Clock::now();
-  stats.ppo = ppo_.Update(rollout_, ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda));
+  stats.ppo =
+      ppo_.Update(rollout_, ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda, comm_));
   stats.seconds_ppo = Since(phase);
 
   phase = Clock::now();
@@ -304,12 +333,14 @@ IterationStats Trainer::RunIteration() {
   stats.seconds_discriminator = Since(phase);
 
   ++iteration_;
-  env_steps_ += static_cast<long>(steps_) * num_envs_;
+  const long job_steps = static_cast<long>(steps_) * num_envs_ * comm_.size();
+  env_steps_ += job_steps;
   stats.iteration = iteration_;
   stats.env_steps = env_steps_;
   stats.action_std = policy_->Std().mean().item<double>();
+  stats.collectives = comm_.TakeTally();
   stats.seconds_total = Since(start);
-  stats.steps_per_s = steps_ * num_envs_ / stats.seconds_total;
+  stats.steps_per_s = job_steps / stats.seconds_total;
   stats.finite = stats.ppo.finite && std::isfinite(stats.pae_loss) && std::isfinite(stats.discriminator_loss);
   return stats;
 }
@@ -329,6 +360,7 @@ void Trainer::SaveCheckpoint(const std::string& path) const {
   archive.write("iteration", c10::IValue(static_cast<int64_t>(iteration_)));
   archive.write("env_steps", c10::IValue(static_cast<int64_t>(env_steps_)));
   archive.write("learning_rate", c10::IValue(ppo_.learning_rate()));
+  archive.write("ranks", c10::IValue(static_cast<int64_t>(comm_.size())));
   WriteTorchRng(archive);
   archive.write("skill_rng", c10::IValue(RngState(skill_rng_)));
   WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
@@ -366,8 +398,19 @@ void Trainer::LoadCheckpoint(const std::string& path) {
     iteration_ = static_cast<int>(ReadInt(archive, "iteration"));
     env_steps_ = static_cast<long>(ReadInt(archive, "env_steps"));
     ppo_.set_learning_rate(ReadDouble(archive, "learning_rate"));
-    ReadTorchRng(archive);
-    RestoreRngState(ReadString(archive, "skill_rng"), skill_rng_, "skill");
+    c10::IValue ranks(static_cast<int64_t>(1));  // checkpoints from before data parallelism
+    archive.try_read("ranks", ranks);
+    if (comm_.size() == 1 && ranks.toInt() == 1) {
+      ReadTorchRng(archive);
+      RestoreRngState(ReadString(archive, "skill_rng"), skill_rng_, "skill");
+    } else {
+      // The saved streams are the leader's alone: every rank draws fresh ones for this layout.
+      const int first = comm_.rank() * num_envs_;
+      torch::manual_seed(StreamSeed(StreamSeed(config_.seed, comm_.rank()), iteration_));
+      for (int i = 0; i < num_envs_; ++i) {
+        skill_rng_[i].seed(StreamSeed(StreamSeed(config_.seed + kSkillStream, first + i), iteration_));
+      }
+    }
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(path, e);
   } catch (const InputError& e) {

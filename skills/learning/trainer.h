@@ -4,12 +4,14 @@
 // same rollouts.
 
 #include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "core/rng.h"
 #include "sim/vec_env.h"
 #include "skills/learning/actor_critic.h"
+#include "skills/learning/communicator.h"
 #include "skills/learning/discriminator.h"
 #include "skills/learning/motion_history.h"
 #include "skills/learning/normalizer.h"
@@ -39,7 +41,16 @@ struct IterationStats {
   double seconds_physics = 0.0, seconds_policy = 0.0, seconds_bookkeeping = 0.0,
          seconds_reward = 0.0, seconds_ppo = 0.0, seconds_pae = 0.0, seconds_discriminator = 0.0,
          seconds_total = 0.0;
+  Communicator::Tally collectives;  // MPI collectives within the iteration (none in one process)
 };
+
+// `epochs` passes over `samples` (row indices) in shuffled minibatches, one optimiser step each
+// on loss_of(minibatch). Every rank of `comm` passes over its own samples, as many as the others,
+// and the ranks step together on their averaged gradients: `minibatch` is the size of the ranks'
+// minibatches together. Returns the mean loss over the ranks, or NaN, without stepping, as soon as
+// a loss is not finite on any rank.
+double TrainEpochs(torch::optim::Optimizer& optimizer, const Communicator& comm, const torch::Tensor& samples,
+                   int epochs, int64_t minibatch, const std::function<torch::Tensor(const torch::Tensor&)>& loss_of);
 
 // The parts of a checkpoint that run the policy: for evaluation and export.
 struct TrainedPolicy {
@@ -51,9 +62,13 @@ struct TrainedPolicy {
 // Reads the policy and normaliser of a checkpoint written by a trainer with `config`.
 TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& checkpoint);
 
+// With several ranks in `comm` (data-parallel training under MPI), config.num_envs is the total:
+// each rank steps its equal share of the envs, and the ranks average every gradient and merge the
+// normaliser's statistics, so all hold the same parameters. Figures in IterationStats are the
+// whole job's.
 class Trainer {
  public:
-  explicit Trainer(const TrainConfig& config);
+  explicit Trainer(const TrainConfig& config, const Communicator& comm = Communicator::Self());
   Trainer(const Trainer&) = delete;
   Trainer& operator=(const Trainer&) = delete;
 
@@ -63,6 +78,9 @@ class Trainer {
 
   // Checkpoints hold the networks, optimisers, normaliser, counters and random states; the file
   // is written atomically. Loading checks that the shapes match this trainer's config.
+  // With several ranks, only the leader should save. A checkpoint resumes with any number of
+  // ranks; the random streams are restored only in one process resuming a one-process checkpoint
+  // (and are otherwise drawn afresh from the seed, the rank and the iteration).
   void SaveCheckpoint(const std::string& path) const;
   void LoadCheckpoint(const std::string& path);
 
@@ -76,6 +94,7 @@ class Trainer {
   Discriminator discriminator() const { return discriminator_; }
   int policy_obs_size() const { return policy_obs_size_; }
   VecEnv& vec_env() { return vec_; }
+  const Communicator& communicator() const { return comm_; }
 
  private:
   void CollectRollout(IterationStats& stats);
@@ -87,6 +106,7 @@ class Trainer {
   double UpdateDiscriminator();
 
   TrainConfig config_;
+  const Communicator& comm_;
   Method method_;
   int num_envs_, steps_;
   int policy_obs_size_, critic_obs_size_;

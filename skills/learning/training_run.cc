@@ -62,11 +62,21 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
     }
     config.seed = options.seed;
   }
+  if (options.threads > 0) config.num_threads = options.threads;
   ValidateTrainConfig(config, folder.config_file);
-  RecordRunStart(folder, ToYamlString(config), options.resume);
+  const Communicator& comm = Communicator::World();
+  if (comm.leader()) {
+    RecordRunStart(folder, ToYamlString(config), options.resume);
+  } else {
+    spdlog::set_level(spdlog::level::warn);  // the leader speaks for the job
+  }
   ConfigureTorchThreads(config.num_threads);
 
-  Trainer trainer(config);
+  Trainer trainer(config, comm);
+  if (comm.size() > 1) {
+    spdlog::info("{} ranks, {} envs and {} threads each", comm.size(), config.num_envs / comm.size(),
+                 config.num_threads);
+  }
   if (options.resume) {
     trainer.LoadCheckpoint(folder.checkpoint);
     spdlog::info("resumed {} at iteration {} ({} env steps)", options.run_dir, trainer.iteration(), trainer.env_steps());
@@ -76,7 +86,7 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
                  config.iterations);
   }
   return RunIterations(
-      trainer, folder, kSkillProgressHeader, config.iterations, config.checkpoint_every, stop_requested,
+      trainer, comm, folder, kSkillProgressHeader, config.iterations, config.checkpoint_every, stop_requested,
       [](const IterationStats& s) { return ProgressRow(s); },
       [&](const IterationStats& s, double eta) { return ProgressLine(s, config.iterations, config.num_skills, eta); });
 }

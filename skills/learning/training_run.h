@@ -11,12 +11,14 @@ struct TrainingRunOptions {
   bool resume = false;
   int iterations = 0;  // > 0: train until this many iterations in total
   int seed = -1;       // >= 0: a new run's seed instead of the config's (another seed, same config)
+  int threads = 0;     // > 0: simulation threads (per rank) instead of the config's
 };
 
 // Trains in run_dir: config.yaml (the resolved config), checkpoint.pt (every checkpoint_every
 // iterations and at exit, including on a stop request), progress.csv. Returns 0 when the run
 // reached its iterations or was stopped, 3 when a loss turned non-finite (the last good checkpoint
-// is kept, nothing is written over it).
+// is kept, nothing is written over it). Runs alone, or as one rank of the MPI job it was launched
+// in (Communicator::World()): each rank steps its share of config.num_envs, the leader alone writes.
 int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop_requested);
 
 // Limits BLAS to one thread: libtorch parallelises its own kernels, and OpenBLAS's own pool on

@@ -13,16 +13,28 @@
 #include "bench/sim_bench.h"
 #include "bench/train_bench.h"
 #include "core/check.h"
+#include "render/skill_render.h"
 #include "report/learning_curves.h"
+#include "skills/learning/communicator.h"
 #include "skills/learning/evaluation.h"
 #include "skills/learning/export.h"
 #include "skills/learning/task_trainer.h"
 #include "skills/learning/training_run.h"
+#include "tools/flsd/report_command.h"
 #include "tools/flsd/sim_demo.h"
 
 namespace {
 std::atomic<bool> g_stop{false};
 void RequestStop(int) { g_stop = true; }
+
+// In an MPI job a failing rank ends the whole job, naming itself, so that no other rank waits for
+// it in a collective for ever; alone, the error is logged and the exit code returned.
+int Fail(int code, const std::string& message) {
+  const flsd::Communicator& comm = flsd::Communicator::World();
+  if (comm.size() > 1) comm.Abort(message);
+  spdlog::error("{}", message);
+  return code;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -45,6 +57,8 @@ int main(int argc, char** argv) {
   train_cmd->add_option("--iterations", train.iterations, "Train until this many iterations in total")
       ->check(CLI::Range(1, 100000000));
   train_cmd->add_option("--seed", train.seed, "Seed of a new run (default: the config's)")->check(CLI::Range(0, 1 << 30));
+  train_cmd->add_option("--threads", train.threads, "Simulation threads per process (default: the config's)")
+      ->check(CLI::Range(1, 1024));
 
   flsd::TaskRunOptions task;
   CLI::App* task_cmd = app.add_subcommand(
@@ -76,6 +90,27 @@ int main(int argc, char** argv) {
   export_selector_cmd->add_option("run", run_dir, "Selector run folder (flsd train-selector)")->required();
   export_selector_cmd->add_option("-o,--output", library_path, "Library file to write")->required();
 
+  flsd::RenderOptions render;
+  CLI::App* render_cmd = app.add_subcommand(
+      "render", "Film a skill in the simulator (.gif, .mp4, .png), or every skill as one contact sheet (.png)");
+  render_cmd->add_option("--library", render.library, "Skill library (.safetensors)")->required();
+  render_cmd->add_option("-o,--output", render.output, "File to write: .gif, .mp4 (needs ffmpeg) or .png")->required();
+  render_cmd->add_option("--skill", render.skill, "Skill to film (from 0)");
+  render_cmd->add_flag("--contact-sheet", render.contact_sheet, "One still of every skill, 4 across (.png)");
+  render_cmd->add_option("--seconds", render.seconds, "Length of the rollout (a contact sheet's stills are its last frames)");
+  render_cmd->add_option("--fps", render.fps, "Frames per second (1 to 50)");
+  render_cmd->add_option("--width", render.width, "Frame width in pixels");
+  render_cmd->add_option("--height", render.height, "Frame height in pixels");
+  render_cmd->add_option("--seed", render.seed, "Seed of the initial pose");
+
+  flsd::ReportOptions report;
+  CLI::App* report_cmd =
+      app.add_subcommand("report", "Compare skill runs as the paper does: an HTML page with tables and figures");
+  report_cmd->add_option("runs", report.runs, "Run folders (flsd train)")->required();
+  report_cmd->add_option("-o,--output", report.output, "Folder to write index.html, report.json and figures")->required();
+  report_cmd->add_option("--steps", report.steps, "Steps per skill (default: the episode length)")
+      ->check(CLI::Range(1, 1000000));
+
   std::vector<std::string> curve_args;
   flsd::CurvePlotOptions curves;
   CLI::App* plot_cmd = app.add_subcommand("plot", "Draw learning curves of runs as one SVG chart");
@@ -102,7 +137,16 @@ int main(int argc, char** argv) {
   train_bench_cmd->add_option("--config", train_bench.config, "Training config");
   train_bench_cmd->add_option("--method", train_bench.method, "flsd or diayn")->check(CLI::IsMember({"flsd", "diayn"}));
   train_bench_cmd->add_option("--iterations", train_bench.iterations, "Timed iterations")->check(CLI::Range(1, 1000));
+  train_bench_cmd->add_option("--threads", train_bench.threads, "Simulation threads per process (default: the config's)")
+      ->check(CLI::Range(1, 1024));
   train_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
+  flsd::MpiBenchOptions mpi_bench;
+  CLI::App* mpi_bench_cmd =
+      bench_cmd->add_subcommand("mpi", "Training throughput of N MPI ranks x 1 thread against 1 process x N threads");
+  mpi_bench_cmd->add_option("--ranks", mpi_bench.ranks, "Ranks (and threads of the one process)")->check(CLI::Range(2, 1024));
+  mpi_bench_cmd->add_option("--config", mpi_bench.train.config, "Training config");
+  mpi_bench_cmd->add_option("--iterations", mpi_bench.train.iterations, "Timed iterations")->check(CLI::Range(1, 1000));
+  mpi_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
 
   flsd::PolicyBenchOptions policy_bench;
   CLI::App* policy_bench_cmd =
@@ -139,6 +183,8 @@ int main(int argc, char** argv) {
       std::signal(SIGTERM, RequestStop);
       return flsd::RunTaskTraining(task, g_stop);
     }
+    if (*report_cmd) return flsd::RunReport(report);
+    if (*render_cmd) return flsd::RunRender(render);
     if (*eval_cmd) {
       flsd::ConfigureTorchThreads(0);
       const nlohmann::json result = flsd::EvaluateRun(run_dir, eval);
@@ -192,15 +238,18 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*train_bench_cmd) {
-      std::printf("%s\n", flsd::RunTrainBenchmark(train_bench).dump(2).c_str());
+      const nlohmann::json result = flsd::RunTrainBenchmark(train_bench);
+      if (!result.is_null()) std::printf("%s\n", result.dump(2).c_str());  // the leader's alone
+      return 0;
+    }
+    if (*mpi_bench_cmd) {
+      std::printf("%s\n", flsd::RunMpiBenchmark(mpi_bench).dump(2).c_str());
       return 0;
     }
   } catch (const flsd::InputError& e) {
-    spdlog::error("{}", e.what());
-    return 2;
+    return Fail(2, e.what());
   } catch (const std::exception& e) {
-    spdlog::error("internal error: {}", e.what());
-    return 1;
+    return Fail(1, std::string("internal error: ") + e.what());
   }
   return 0;
 }

@@ -1,0 +1,58 @@
+#include "tools/flsd/report_command.h"
+
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <set>
+
+#include "core/check.h"
+#include "flsd_commit.h"
+#include "report/skill_report.h"
+#include "skills/learning/evaluation.h"
+#include "skills/learning/trainer.h"
+
+namespace flsd {
+namespace {
+
+namespace fs = std::filesystem;
+
+ReportRun EvaluateForReport(const std::string& run_dir, int steps) {
+  const fs::path dir = fs::path(run_dir).lexically_normal();
+  const TrainConfig config = LoadTrainConfig((dir / "config.yaml").string());
+  const TrainedPolicy trained = LoadTrainedPolicy(config, (dir / "checkpoint.pt").string());
+  ReportRun run;
+  run.label = (dir.has_filename() ? dir.filename() : dir.parent_path().filename()).string();
+  run.method = config.method;
+  run.seed = config.seed;
+  run.iteration = trained.iteration;
+  run.env_steps = trained.env_steps;
+  if (fs::exists(dir / "progress.csv")) run.progress_csv = (dir / "progress.csv").string();
+  EvaluationOptions options;
+  options.steps = steps;
+  run.nominal = EvaluateSkills(config, trained.policy, trained.normalizer, options);
+  options.randomize = true;
+  run.randomized = EvaluateSkills(config, trained.policy, trained.normalizer, options);
+  spdlog::info("{}: {} at iteration {}, {} of {} skills survive 500 steps ({} with randomisation), coverage {} cells",
+               run.label, run.method, run.iteration, run.nominal.survivors, run.nominal.skills.size(),
+               run.randomized.survivors, run.nominal.coverage.cells_visited);
+  return run;
+}
+
+}  // namespace
+
+int RunReport(const ReportOptions& options) {
+  std::vector<ReportRun> runs;
+  std::set<std::string> labels;
+  for (const std::string& dir : options.runs) {
+    runs.push_back(EvaluateForReport(dir, options.steps));
+    // Figures are named after the run folders.
+    if (!labels.insert(runs.back().label).second) {
+      throw InputError("report: two runs are named '" + runs.back().label + "'; give runs distinct folder names");
+    }
+  }
+  WriteSkillReport(runs, options.output, FLSD_GIT_COMMIT);
+  spdlog::info("wrote {}/index.html", options.output);
+  return 0;
+}
+
+}  // namespace flsd

@@ -233,9 +233,12 @@ std::string VelocityHtml(const std::vector<ReportRun>& runs) {
 
 std::string SkillsHtml(const ReportRun& r) {
   std::ostringstream h;
-  h << "<details><summary>" << Escape(r.label) << ": every skill</summary>\n<table>\n"
+  h << "<details><summary>" << Escape(r.label) << ": every skill</summary>\n"
+    << "<p>Task columns: legged_gym's velocity-tracking reward per second (A1 scales, unclipped) when the "
+       "skill is commanded its own mean velocity; tracking is its two tracking terms, reward the sum of all "
+       "terms, penalties included: what a skill selector could at best collect from the skill.</p>\n<table>\n"
     << Row({"skill", "steps", "with randomisation", "v_x", "v_y", "w_z", "height", "gait Hz", "> 10 Hz ratio",
-            "stance foot speed"},
+            "stance foot speed", "task tracking /s", "task reward /s"},
            true);
   for (size_t k = 0; k < r.nominal.skills.size(); ++k) {
     const SkillSummary& s = r.nominal.skills[k];
@@ -243,7 +246,9 @@ std::string SkillsHtml(const ReportRun& r) {
     h << Row({std::to_string(s.skill), std::to_string(s.survival_steps) + (s.fell ? " (fell)" : ""),
               std::to_string(randomized), Fixed(Vx(s), 2), Fixed(Vy(s), 2), Fixed(Wz(s), 2),
               Fixed(s.mean_base_height, 3), Fixed(s.gait_frequency_hz, 1), Fixed(s.high_frequency_ratio, 3),
-              Fixed(s.mean_stance_foot_speed, 2)});
+              Fixed(s.mean_stance_foot_speed, 2),
+              Fixed(s.task_reward_per_s.tracking_lin_vel + s.task_reward_per_s.tracking_ang_vel, 2),
+              Fixed(s.task_reward_per_s.total, 2)});
   }
   return h.str() + "</table></details>\n";
 }

@@ -29,6 +29,40 @@ TrajectoryPoint PointOf(const Env& env) {
 
 nlohmann::json Array(const double* v, int n) { return std::vector<double>(v, v + n); }
 
+// What the velocity task's reward needs of one control step.
+struct TaskStep {
+  RobotState state;
+  std::array<float, kActionSize> action;
+  bool collision;
+};
+
+// legged_gym's velocity-task reward per second, term by term, that a skill earns when the command
+// is its own mean velocity (VelocityRewardConfig: the A1's scales).
+VelocityRewardTerms OwnVelocityTaskReward(const RobotState& start, const std::vector<TaskStep>& steps,
+                                          const SkillSummary& skill) {
+  VelocityRewardTerms mean{};
+  if (steps.empty()) return mean;
+  const VelocityRewardConfig config;
+  VelocityTrackingReward reward(config);
+  reward.Reset(start);
+  const Eigen::Vector3d command(skill.mean_linear_velocity[0], skill.mean_linear_velocity[1],
+                                skill.mean_angular_velocity[2]);
+  const double n = static_cast<double>(steps.size());
+  for (const TaskStep& step : steps) {
+    const VelocityRewardTerms scaled = Scaled(reward.Step(step.state, command, step.action.data(), step.collision), config);
+    ForEachTerm(mean, scaled, [&](const char*, double& sum, double term) { sum += term / n; });
+    mean.total += scaled.total / n;
+  }
+  return mean;
+}
+
+nlohmann::json TermsJson(const VelocityRewardTerms& terms) {
+  nlohmann::json json;
+  ForEachTerm(terms, terms, [&](const char* name, double value, double) { json[name] = value; });
+  json["total"] = terms.total;
+  return json;
+}
+
 }  // namespace
 
 Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
@@ -57,9 +91,12 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
   const int obs_size = PolicyObservationSize(skills);
   torch::Tensor raw = torch::zeros({skills, obs_size});
   std::vector<float> previous(skills * kActionSize, 0.0f);
+  std::vector<RobotState> start(skills);
+  std::vector<std::vector<TaskStep>> task_steps(skills);
   for (int k = 0; k < skills; ++k) {
     eval.trajectories[k].skill = k;
     eval.trajectories[k].points.reserve(steps);
+    start[k] = vec.env(k).state();
   }
   for (int t = 0; t < steps; ++t) {
     for (int k = 0; k < skills; ++k) {
@@ -75,7 +112,13 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
       if (!running[k]) continue;
       const Termination ending = vec.termination()[k];
       // A failed state is not part of the skill (and the env has already been reset).
-      if (ending == Termination::kNone) eval.trajectories[k].points.push_back(PointOf(vec.env(k)));
+      if (ending == Termination::kNone) {
+        eval.trajectories[k].points.push_back(PointOf(vec.env(k)));
+        TaskStep& step = task_steps[k].emplace_back();
+        step.state = vec.env(k).state();
+        std::copy(a + k * kActionSize, a + (k + 1) * kActionSize, step.action.begin());
+        step.collision = vec.stepped_calf_contact(k);
+      }
       if (ending != Termination::kNone) {
         running[k] = false;
         eval.trajectories[k].fell = IsFailure(ending);
@@ -85,6 +128,9 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
     if (!any) break;
   }
   ComputeMetrics(eval, 1.0 / a1::kControlDt);
+  for (int k = 0; k < skills; ++k) {
+    eval.skills[k].task_reward_per_s = OwnVelocityTaskReward(start[k], task_steps[k], eval.skills[k]);
+  }
   return eval;
 }
 
@@ -107,7 +153,8 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
                       {"gait_frequency_hz", s.gait_frequency_hz},
                       {"high_frequency_ratio", s.high_frequency_ratio},
                       {"mean_stance_foot_speed", s.mean_stance_foot_speed},
-                      {"displacement", Array(s.displacement.data(), 2)}});
+                      {"displacement", Array(s.displacement.data(), 2)},
+                      {"task_reward_per_s", TermsJson(s.task_reward_per_s)}});
   }
   return {
       {"method", e.method},
@@ -133,13 +180,15 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
 std::string SkillSummaryCsv(const Evaluation& e) {
   std::ostringstream out;
   out << "skill,survival_steps,fell,vx,vy,vz,wx,wy,wz,base_height,gait_frequency_hz,high_frequency_ratio,"
-         "stance_foot_speed,dx,dy\n";
+         "stance_foot_speed,dx,dy,task_tracking_per_s,task_reward_per_s\n";
   for (const SkillSummary& s : e.skills) {
     out << s.skill << ',' << s.survival_steps << ',' << s.fell;
     for (double v : s.mean_linear_velocity) out << ',' << v;
     for (double v : s.mean_angular_velocity) out << ',' << v;
     out << ',' << s.mean_base_height << ',' << s.gait_frequency_hz << ',' << s.high_frequency_ratio << ','
-        << s.mean_stance_foot_speed << ',' << s.displacement[0] << ',' << s.displacement[1] << '\n';
+        << s.mean_stance_foot_speed << ',' << s.displacement[0] << ',' << s.displacement[1] << ','
+        << s.task_reward_per_s.tracking_lin_vel + s.task_reward_per_s.tracking_ang_vel << ','
+        << s.task_reward_per_s.total << '\n';
   }
   return out.str();
 }

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "robot/a1.h"
+#include "skills/learning/velocity_tracking.h"
 
 namespace flsd {
 
@@ -94,6 +95,9 @@ struct SkillSummary {
   double high_frequency_ratio = 0.0;
   double mean_stance_foot_speed = 0.0;  // m/s: how much the feet slide while they bear weight
   std::array<double, 2> displacement{};  // world x, y, m
+  // legged_gym's velocity-task reward per second (scaled terms, unclipped total) when the skill is
+  // commanded its own mean velocity: the most a skill selector could earn from it (flsd eval).
+  VelocityRewardTerms task_reward_per_s{};
 };
 SkillSummary SummarizeSkill(const SkillTrajectory& skill, double rate_hz);
 

@@ -54,13 +54,18 @@ VelocityRewardTerms VelocityTrackingReward::Step(const RobotState& s, const Eige
   if (command.head<2>().norm() <= 0.1) t.feet_air_time = 0.0;
   t.collision = collision ? 1.0 : 0.0;
 
-  const VelocityRewardConfig& c = config_;
-  const double total = c.tracking_lin_vel * t.tracking_lin_vel + c.tracking_ang_vel * t.tracking_ang_vel +
-                       c.lin_vel_z * t.lin_vel_z + c.ang_vel_xy * t.ang_vel_xy + c.orientation * t.orientation +
-                       c.torques * t.torques + c.dof_acc * t.dof_acc + c.feet_air_time * t.feet_air_time +
-                       c.collision * t.collision + c.action_rate * t.action_rate + c.dof_pos_limits * t.dof_pos_limits;
-  t.total = std::max(0.0, total * dt);
+  t.total = std::max(0.0, Scaled(t, config_).total * dt);
   return t;
+}
+
+VelocityRewardTerms Scaled(const VelocityRewardTerms& terms, const VelocityRewardConfig& config) {
+  VelocityRewardTerms scaled = terms;
+  scaled.total = 0.0;
+  ForEachTerm(scaled, config, [&](const char*, double& term, double scale) {
+    term *= scale;
+    scaled.total += term;
+  });
+  return scaled;
 }
 
 }  // namespace flsd

@@ -34,6 +34,23 @@ struct VelocityCommandConfig {
 // (vx, vy, wz), each uniform in its range, xy zeroed below min_planar_speed.
 Eigen::Vector3d SampleVelocityCommand(Rng& rng, const VelocityCommandConfig& config);
 
+// Calls f(name, a.term, b.term) for every reward term (not the total) of a and b, which may be
+// VelocityRewardTerms or VelocityRewardConfig: the one list of terms for whatever pairs them up.
+template <class A, class B, class F>
+void ForEachTerm(A& a, B& b, F f) {
+  f("tracking_lin_vel", a.tracking_lin_vel, b.tracking_lin_vel);
+  f("tracking_ang_vel", a.tracking_ang_vel, b.tracking_ang_vel);
+  f("lin_vel_z", a.lin_vel_z, b.lin_vel_z);
+  f("ang_vel_xy", a.ang_vel_xy, b.ang_vel_xy);
+  f("orientation", a.orientation, b.orientation);
+  f("torques", a.torques, b.torques);
+  f("dof_acc", a.dof_acc, b.dof_acc);
+  f("feet_air_time", a.feet_air_time, b.feet_air_time);
+  f("collision", a.collision, b.collision);
+  f("action_rate", a.action_rate, b.action_rate);
+  f("dof_pos_limits", a.dof_pos_limits, b.dof_pos_limits);
+}
+
 struct VelocityRewardConfig {
   double tracking_sigma = 0.25;
   double tracking_lin_vel = 1.0;
@@ -52,13 +69,7 @@ struct VelocityRewardConfig {
   template <class V>
   void Visit(V& v) {
     v("tracking_sigma", tracking_sigma, Bounds<double>{1e-4, 100.0});
-    for (auto [name, value] : {std::pair{"tracking_lin_vel", &tracking_lin_vel}, {"tracking_ang_vel", &tracking_ang_vel},
-                               {"lin_vel_z", &lin_vel_z}, {"ang_vel_xy", &ang_vel_xy}, {"orientation", &orientation},
-                               {"torques", &torques}, {"dof_acc", &dof_acc}, {"feet_air_time", &feet_air_time},
-                               {"collision", &collision}, {"action_rate", &action_rate},
-                               {"dof_pos_limits", &dof_pos_limits}}) {
-      v(name, *value, Bounds<double>{-1e6, 1e6});
-    }
+    ForEachTerm(*this, *this, [&](const char* name, double& scale, double&) { v(name, scale, Bounds<double>{-1e6, 1e6}); });
     v("soft_dof_pos_limit", soft_dof_pos_limit, Bounds<double>{0.1, 1.0});
     v("feet_air_time_target", feet_air_time_target, Bounds<double>{0.0, 5.0});
   }
@@ -70,6 +81,9 @@ struct VelocityRewardTerms {
          dof_acc = 0, feet_air_time = 0, collision = 0, action_rate = 0, dof_pos_limits = 0;
   double total = 0;  // sum of scale * term * dt, clipped at 0
 };
+
+// Each term times its scale, and `total` their unclipped sum: the reward per second the terms pay.
+VelocityRewardTerms Scaled(const VelocityRewardTerms& terms, const VelocityRewardConfig& config);
 
 // The reward of one environment; it carries what the terms need from the previous step.
 class VelocityTrackingReward {

@@ -366,6 +366,13 @@ TEST_F(TrainingRun, EvaluationRecordsOneEpisodePerSkill) {
     const auto& last = t.points.back().joint_velocity;
     EXPECT_FALSE(std::all_of(last.begin(), last.end(), [](double v) { return v == 0.0; }))
         << "skill " << t.skill << " ends on a reset pose";
+    // Commanded its own mean velocity, a skill tracks it partly (the terms pay at most 1 + 0.5
+    // per second), and a random policy's penalties are not zero.
+    const VelocityRewardTerms& task = eval.skills[t.skill].task_reward_per_s;
+    EXPECT_GT(task.tracking_lin_vel + task.tracking_ang_vel, 0.0) << "skill " << t.skill;
+    EXPECT_LE(task.tracking_lin_vel + task.tracking_ang_vel, 1.5) << "skill " << t.skill;
+    EXPECT_LT(task.action_rate, 0.0) << "skill " << t.skill;
+    EXPECT_LT(task.total, task.tracking_lin_vel + task.tracking_ang_vel) << "skill " << t.skill;
   }
   EXPECT_GT(checked, 0) << "no skill stood for 40 steps: nothing was checked";
 }

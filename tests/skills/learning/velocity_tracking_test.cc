@@ -65,6 +65,22 @@ TEST(VelocityTrackingReward, PenaltiesSubtractAndTheTotalIsClippedAtZero) {
   EXPECT_EQ(reward.Step(s, Eigen::Vector3d::Zero(), kZeroAction, false).total, 0.0);
 }
 
+TEST(VelocityTrackingReward, ScaledTermsSumToTheUnclippedRewardPerSecond) {
+  VelocityRewardConfig config = Only(&VelocityRewardConfig::tracking_lin_vel);
+  config.lin_vel_z = -2.0;
+  VelocityTrackingReward reward(config);
+  RobotState s = Standing();
+  reward.Reset(s);
+  s.base_linear_velocity = {0.0, 0.0, 1.0};  // tracking 1.0, lin_vel_z 1.0 -> 1 - 2
+  const VelocityRewardTerms raw = reward.Step(s, Eigen::Vector3d::Zero(), kZeroAction, false);
+  const VelocityRewardTerms scaled = Scaled(raw, config);
+  EXPECT_DOUBLE_EQ(scaled.tracking_lin_vel, 1.0);
+  EXPECT_DOUBLE_EQ(scaled.lin_vel_z, -2.0);
+  EXPECT_DOUBLE_EQ(scaled.tracking_ang_vel, 0.0);  // scale 0
+  EXPECT_DOUBLE_EQ(scaled.total, -1.0);            // per second, not clipped
+  EXPECT_EQ(raw.total, 0.0);                       // the step's reward is
+}
+
 TEST(VelocityTrackingReward, FeetAirTimeIsPaidAtTouchdownWhileMoving) {
   VelocityTrackingReward reward{Only(&VelocityRewardConfig::feet_air_time)};
   RobotState s = Standing();

@@ -27,6 +27,13 @@ constexpr int kEmbeddingStride = 10;
 
 bool Survived(const SkillSummary& s) { return s.survival_steps > kCoverageMinSurvival; }
 
+// Skills that survive 500 steps without passing the A1's joint speed limit, where skilld stops them.
+int WithinJointSpeed(const Evaluation& e) {
+  int n = 0;
+  for (const SkillSummary& s : e.skills) n += Survived(s) && s.max_joint_speed <= a1::kJointVelocityLimit;
+  return n;
+}
+
 std::string Fixed(double v, int digits) {
   if (!std::isfinite(v)) return "-";
   char text[48];
@@ -88,6 +95,7 @@ nlohmann::json RunJson(const ReportRun& r) {
           {"survivors", e.survivors},
           {"survivors_randomized", r.randomized.survivors},
           {"survivors_both", RobustSurvivors(r)},
+          {"survivors_within_joint_speed_limit", WithinJointSpeed(e)},
           {"mean_velocity_spread",
            {{"vx", SpreadJson(SpreadOf(e, Vx))}, {"vy", SpreadJson(SpreadOf(e, Vy))}, {"wz", SpreadJson(SpreadOf(e, Wz))}}},
           {"directions",
@@ -204,13 +212,14 @@ std::string TableTwoHtml(const std::vector<ReportRun>& runs) {
   std::ostringstream h;
   h << "<table>\n"
     << Row({"run", "pooled ratio (> 10 Hz)", "per-skill mean", "per-skill std", "survivors (of skills)",
-            "with randomisation", "both"},
+            "with randomisation", "both", "survivors within 21 rad/s"},
            true);
   for (const ReportRun& r : runs) {
     const HighFrequencyResult& f = r.nominal.high_frequency;
     h << Row({Escape(r.label), Fixed(f.pooled_ratio, 3), Fixed(f.mean_ratio, 3), Fixed(f.std_ratio, 3),
               std::to_string(r.nominal.survivors) + " / " + std::to_string(r.nominal.skills.size()),
-              std::to_string(r.randomized.survivors), std::to_string(RobustSurvivors(r))});
+              std::to_string(r.randomized.survivors), std::to_string(RobustSurvivors(r)),
+              std::to_string(WithinJointSpeed(r.nominal))});
   }
   return h.str() + "</table>\n";
 }
@@ -238,7 +247,7 @@ std::string SkillsHtml(const ReportRun& r) {
        "skill is commanded its own mean velocity; tracking is its two tracking terms, reward the sum of all "
        "terms, penalties included: what a skill selector could at best collect from the skill.</p>\n<table>\n"
     << Row({"skill", "steps", "with randomisation", "v_x", "v_y", "w_z", "height", "gait Hz", "> 10 Hz ratio",
-            "stance foot speed", "task tracking /s", "task reward /s"},
+            "stance foot speed", "peak joint speed", "task tracking /s", "task reward /s"},
            true);
   for (size_t k = 0; k < r.nominal.skills.size(); ++k) {
     const SkillSummary& s = r.nominal.skills[k];
@@ -246,7 +255,7 @@ std::string SkillsHtml(const ReportRun& r) {
     h << Row({std::to_string(s.skill), std::to_string(s.survival_steps) + (s.fell ? " (fell)" : ""),
               std::to_string(randomized), Fixed(Vx(s), 2), Fixed(Vy(s), 2), Fixed(Wz(s), 2),
               Fixed(s.mean_base_height, 3), Fixed(s.gait_frequency_hz, 1), Fixed(s.high_frequency_ratio, 3),
-              Fixed(s.mean_stance_foot_speed, 2),
+              Fixed(s.mean_stance_foot_speed, 2), Fixed(s.max_joint_speed, 1),
               Fixed(s.task_reward_per_s.tracking_lin_vel + s.task_reward_per_s.tracking_ang_vel, 2),
               Fixed(s.task_reward_per_s.total, 2)});
   }

@@ -169,6 +169,7 @@ SkillSummary SummarizeSkill(const SkillTrajectory& s, double rate_hz) {
     }
     r.mean_base_height += p.base_height;
     r.mean_stance_foot_speed += p.stance_foot_speed;
+    for (double qd : p.joint_velocity) r.max_joint_speed = std::max(r.max_joint_speed, std::abs(qd));
   }
   const double n = static_cast<double>(s.points.size());
   for (int k = 0; k < 3; ++k) {

@@ -88,6 +88,16 @@ TEST(SkillReport, ComparesFlsdWithDiaynAsRatiosOfTheMethodMeans) {
   EXPECT_DOUBLE_EQ(json["methods"]["diayn"]["survivors_both"].get<double>(), 1.0);
 }
 
+TEST(SkillReport, CountsSurvivorsWithinTheJointSpeedLimit) {
+  std::vector<ReportRun> runs = TwoMethods();
+  EXPECT_EQ(ReportJson(runs)["runs"][0]["survivors_within_joint_speed_limit"].get<int>(), 3);
+  // One sample of skill 1's joint 7 past the A1's 21 rad/s: skilld would stop it there.
+  runs[0].nominal.trajectories[1].points[300].joint_velocity[7] = -25.0;
+  ComputeMetrics(runs[0].nominal, kRate);
+  EXPECT_DOUBLE_EQ(runs[0].nominal.skills[1].max_joint_speed, 25.0);
+  EXPECT_EQ(ReportJson(runs)["runs"][0]["survivors_within_joint_speed_limit"].get<int>(), 2);
+}
+
 TEST(SkillReport, OneMethodHasNoComparison) {
   std::vector<ReportRun> runs = TwoMethods();
   runs.pop_back();

@@ -22,23 +22,8 @@ using testutil::DecodedGif;
 using testutil::InputErrorMessage;
 using testutil::UniqueTempPath;
 
-// A temp path removed at the end of the test.
-class ScratchFile {
- public:
-  explicit ScratchFile(const std::string& suffix) : path_(UniqueTempPath(suffix)) {}
-  ~ScratchFile() { std::filesystem::remove(path_); }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testutil::ReadFile;
+using testutil::ScratchFile;
 
 DecodedGif WriteAndDecode(const std::string& path, const std::vector<Image>& frames, int delay_cs) {
   GifWriter gif(path, frames.at(0).width, frames.at(0).height, delay_cs);

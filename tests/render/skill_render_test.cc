@@ -33,22 +33,8 @@ RenderOptions ShortRender(const std::string& output) {
   return options;
 }
 
-class ScratchFile {
- public:
-  explicit ScratchFile(const std::string& suffix) : path_(UniqueTempPath(suffix)) {}
-  ~ScratchFile() { std::filesystem::remove(path_); }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testutil::ReadFile;
+using testutil::ScratchFile;
 
 Image ReadPng(const std::string& path) {
   png_image png{};

@@ -29,6 +29,10 @@ Returns ComputeReturns(const Rollout& r, const torch::Tensor& last_values, doubl
     next_value = r.values[t];
   }
   const torch::Tensor raw = out.returns - r.values;
+  if (comm.size() == 1) {
+    out.advantages = (raw - raw.mean()) / (raw.std() + 1e-8);
+    return out;
+  }
   // Mean and (unbiased) std over all ranks' transitions, from their sums.
   double moments[3] = {static_cast<double>(raw.numel()), raw.sum().item<double>(),
                        raw.to(torch::kFloat64).pow(2).sum().item<double>()};

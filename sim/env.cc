@@ -30,6 +30,7 @@ const char* ToString(Termination t) {
     case Termination::kBodyContact: return "body_contact";
     case Termination::kTilt: return "tilt";
     case Termination::kLowBase: return "low_base";
+    case Termination::kJointSpeed: return "joint_speed";
     case Termination::kInvalidAction: return "invalid_action";
     case Termination::kPhysics: return "physics";
   }
@@ -228,6 +229,11 @@ Termination Env::CheckTermination() const {
   if (body_contact_ || (c.on_calf_contact && calf_contact_)) return Termination::kBodyContact;
   if (state_.ProjectedGravity().z() > -std::cos(c.max_tilt)) return Termination::kTilt;
   if (state_.base_position.z() < c.min_base_height) return Termination::kLowBase;
+  if (c.max_joint_speed > 0.0) {
+    for (double qd : state_.joint_velocity) {
+      if (std::abs(qd) > c.max_joint_speed) return Termination::kJointSpeed;
+    }
+  }
   if (episode_step_ >= config_.episode_steps) return Termination::kTimeOut;
   return Termination::kNone;
 }

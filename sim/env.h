@@ -19,6 +19,7 @@ enum class Termination : unsigned char {
   kBodyContact,    // trunk, hip or thigh (optionally calf) touched the floor: a fall
   kTilt,           // attitude beyond TerminationConfig::max_tilt
   kLowBase,        // base below TerminationConfig::min_base_height
+  kJointSpeed,     // a joint faster than TerminationConfig::max_joint_speed
   kInvalidAction,  // a NaN or infinite action; it was not applied
   kPhysics,        // MuJoCo reported an unstable simulation (bad acceleration, non-finite state)
 };

@@ -84,11 +84,16 @@ struct TerminationConfig {
   bool on_calf_contact = false;
   double max_tilt = 1.2;          // rad between the body z axis and the world z axis
   double min_base_height = 0.08;  // m; the paper's skills reach 0.09 m (Table I)
+  // rad/s; 0 turns it off. Set to the motor's limit (a1::kJointVelocityLimit, 21), it ends an
+  // episode where skilld's supervisor would stop the robot, so skills learn to stay servable.
+  // Checked at every control step, the sample `flsd eval` reports as max_joint_speed.
+  double max_joint_speed = 0.0;
   template <class V>
   void Visit(V& v) {
     v("on_calf_contact", on_calf_contact);
     v("max_tilt", max_tilt, Bounds<double>{0.1, 3.2});
     v("min_base_height", min_base_height, Bounds<double>{0.0, 1.0});
+    v("max_joint_speed", max_joint_speed, Bounds<double>{0.0, 1000.0});
   }
 };
 

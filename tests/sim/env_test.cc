@@ -376,6 +376,27 @@ TEST(EnvTermination, BaseBelowMinHeightIsLowBase) {
   EXPECT_TRUE(IsFailure(t));
 }
 
+TEST(EnvTermination, JointFasterThanMaxJointSpeedEndsTheEpisode) {
+  // A large action swings the joints; the fastest one after the step sets the threshold: a limit
+  // just below it ends the episode, one just above does not, and 0 (the default) never does.
+  const Action swing = Filled(4.0f);
+  EnvConfig config = DeterministicConfig();
+  Env free_env(SceneModel(), config, 11);
+  ASSERT_EQ(free_env.Step(swing.data()), Termination::kNone);
+  double fastest = 0.0;
+  for (double qd : free_env.state().joint_velocity) fastest = std::max(fastest, std::abs(qd));
+  ASSERT_GT(fastest, 1.0);
+  for (const auto& [limit, expected] :
+       {std::pair{0.99 * fastest, Termination::kJointSpeed}, std::pair{1.01 * fastest, Termination::kNone}}) {
+    config.termination.max_joint_speed = limit;
+    Env env(SceneModel(), config, 11);
+    const Termination t = env.Step(swing.data());
+    EXPECT_EQ(t, expected) << "limit " << limit << " rad/s, fastest joint " << fastest;
+    if (t == Termination::kJointSpeed) EXPECT_TRUE(IsFailure(t));
+  }
+  EXPECT_STREQ(ToString(Termination::kJointSpeed), "joint_speed");
+}
+
 TEST(EnvTermination, EpisodeStepsEndsWithTimeOutWhichIsNoFailure) {
   EnvConfig config = DeterministicConfig();
   config.episode_steps = 3;

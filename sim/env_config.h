@@ -85,8 +85,8 @@ struct TerminationConfig {
   double max_tilt = 1.2;          // rad between the body z axis and the world z axis
   double min_base_height = 0.08;  // m; the paper's skills reach 0.09 m (Table I)
   // rad/s; 0 turns it off. Set to the motor's limit (a1::kJointVelocityLimit, 21), it ends an
-  // episode where skilld's supervisor would stop the robot, so skills learn to stay servable.
-  // Checked at every control step, the sample `flsd eval` reports as max_joint_speed.
+  // episode where skilld's supervisor would stop the robot. Checked at every control step, the
+  // sample `flsd eval` reports as max_joint_speed. (On our budget it led FLSD to still postures.)
   double max_joint_speed = 0.0;
   template <class V>
   void Visit(V& v) {

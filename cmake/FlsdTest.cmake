@@ -1,12 +1,19 @@
 include(GoogleTest)
 
-# flsd_test(NAME SOURCE LABEL [LIBS...]): one gtest executable whose cases are registered with
-# ctest under LABEL (unit or integration), so `ctest -L unit` selects the fast ones.
+# flsd_test(NAME SOURCE LABEL [RUN_SERIAL] [LIBS...]): one gtest executable whose cases are
+# registered with ctest under LABEL (unit or integration), so `ctest -L unit` selects the fast
+# ones. RUN_SERIAL is for cases that measure a real-time rate: on two cores, a test running beside
+# them takes the CPU their threads need, and the rate they measure is then the neighbour's.
 function(flsd_test name source label)
+  cmake_parse_arguments(arg "RUN_SERIAL" "" "" ${ARGN})
   add_executable(${name} ${source})
-  target_link_libraries(${name} PRIVATE GTest::gtest_main ${ARGN})
+  target_link_libraries(${name} PRIVATE GTest::gtest_main ${arg_UNPARSED_ARGUMENTS})
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
-  gtest_discover_tests(${name} PROPERTIES LABELS ${label} DISCOVERY_TIMEOUT 60)
+  set(serial FALSE)
+  if(arg_RUN_SERIAL)
+    set(serial TRUE)
+  endif()
+  gtest_discover_tests(${name} PROPERTIES LABELS ${label} RUN_SERIAL ${serial} DISCOVERY_TIMEOUT 60)
 endfunction()
 
 # flsd_torch_test(NAME SOURCE LABEL [LIBS...]): as flsd_test, but the whole executable is one ctest

@@ -144,7 +144,7 @@ Termination Env::Advance(const JointCommand& command, int substeps) {
       d.ctrl[index_.actuator[j]] =
           MotorTorque(command.kp[j], command.kd[j], command.position[j], command.velocity[j],
                       d.qpos[index_.qpos[j]], d.qvel[index_.qvel[j]], command.torque[j],
-                      randomization_.motor_strength[j]);
+                      randomization_.motor_strength[j], config_.torque_speed_limit);
     }
     mj_step(model_.get(), data_.get());
     // MuJoCo resets the data itself after a non-finite or huge position, velocity or

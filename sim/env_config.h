@@ -100,6 +100,10 @@ struct TerminationConfig {
 struct EnvConfig {
   std::string model = "robot/a1/scene.xml";
   int episode_steps = 1000;  // 20 s at 50 Hz, as legged_gym
+  // The motors' torque-speed line (robot/robot_state.h, DrivingTorqueLimit): without it the
+  // simulated joints reached 24-56 rad/s in training, past what the A1's motors can turn and what
+  // skilld's supervisor allows. Runs trained before it existed had it off.
+  bool torque_speed_limit = true;
   ResetConfig reset;
   TerminationConfig termination;
   RandomizationConfig randomization;
@@ -107,6 +111,7 @@ struct EnvConfig {
   void Visit(V& v) {
     v("model", model);
     v("episode_steps", episode_steps, Bounds<int>{1, 10000000});
+    v("torque_speed_limit", torque_speed_limit);
     v("reset", reset);
     v("termination", termination);
     v("randomization", randomization);

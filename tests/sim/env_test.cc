@@ -61,14 +61,15 @@ MjDataPtr CopyData(const Env& env) {
 }
 
 // One control step done by hand: the PD law toward q0 + 0.25 a at each of the 4 physics steps,
-// with the gains written out (Kp 20, Kd 0.5) rather than taken from a1.h.
+// with the gains written out (Kp 20, Kd 0.5) rather than taken from a1.h, and the motors'
+// torque-speed line on, as EnvConfig has it by default.
 void ReplayControlStep(const Env& env, mjData& d, const Action& action, const Strengths& strength) {
   const A1ModelIndex& index = env.index();
   for (int substep = 0; substep < a1::kDecimation; ++substep) {
     for (int j = 0; j < a1::kNumJoints; ++j) {
       const double target = a1::kDefaultJointPos[j] + 0.25 * static_cast<double>(action[j]);
       d.ctrl[index.actuator[j]] = MotorTorque(20.0, 0.5, target, 0.0, d.qpos[index.qpos[j]],
-                                              d.qvel[index.qvel[j]], 0.0, strength[j]);
+                                              d.qvel[index.qvel[j]], 0.0, strength[j], true);
     }
     mj_step(&env.model(), &d);
   }
@@ -235,7 +236,9 @@ TEST(Env, StepAppliesThePdLawAtEveryPhysicsStep) {
 }
 
 TEST(Env, LargeActionSaturatesAtTheTorqueLimit) {
-  Env env(SceneModel(), DeterministicConfig(), 3);
+  EnvConfig config = DeterministicConfig();
+  config.torque_speed_limit = false;  // the stall torque alone; the speed line is tested below
+  Env env(SceneModel(), config, 3);
   Action action;
   for (int j = 0; j < kActionSize; ++j) action[j] = j % 2 == 0 ? 50.0f : -50.0f;  // 12.5 rad away
   env.Step(action.data());
@@ -243,6 +246,46 @@ TEST(Env, LargeActionSaturatesAtTheTorqueLimit) {
     EXPECT_EQ(env.state().joint_torque[j], j % 2 == 0 ? a1::kTorqueLimit : -a1::kTorqueLimit)
         << a1::kJointNames[j];
   }
+}
+
+// The fastest a thigh swings, from the default pose in the air to its upper stop, driven at full
+// torque toward a target far beyond it.
+double FastestThighSwing(bool torque_speed_limit) {
+  EnvConfig config = DeterministicConfig();
+  config.torque_speed_limit = torque_speed_limit;
+  Env env(SceneModel(), config, 5);
+  PoseBase(env, 1.0);
+  JointCommand command = JointCommand::Track(a1::kDefaultJointPos);
+  for (int leg = 0; leg < a1::kNumLegs; ++leg) command.position[3 * leg + 1] = 12.0;
+  double fastest = 0.0;
+  for (int step = 0; step < 60; ++step) {
+    env.StepCommand(command, 1);
+    for (int leg = 0; leg < a1::kNumLegs; ++leg) {
+      const int thigh = 3 * leg + 1;
+      if (env.state().joint_position[thigh] > a1::JointMax(thigh) - 0.05) return fastest;  // at the stop
+      fastest = std::max(fastest, std::abs(env.state().joint_velocity[thigh]));
+    }
+  }
+  return fastest;
+}
+
+TEST(Env, TheMotorsTorqueSpeedLineKeepsAJointUnderTheA1sSpeedLimit) {
+  // The line itself: full torque at rest, half at half speed, none at 21 rad/s, either way.
+  EXPECT_EQ(DrivingTorqueLimit(0.0), 33.5);
+  EXPECT_DOUBLE_EQ(DrivingTorqueLimit(-10.5), 16.75);
+  EXPECT_EQ(DrivingTorqueLimit(21.0), 0.0);
+  EXPECT_EQ(DrivingTorqueLimit(30.0), 0.0);
+  // It limits torque along the motion only; braking keeps the stall torque.
+  EXPECT_DOUBLE_EQ(MotorTorque(20.0, 0.5, 10.0, 0.0, 0.0, 10.5, 0.0, 1.0, true), 16.75);
+  EXPECT_EQ(MotorTorque(20.0, 0.5, -10.0, 0.0, 0.0, 10.5, 0.0, 1.0, true), -33.5);
+  EXPECT_EQ(MotorTorque(20.0, 0.5, 10.0, 0.0, 0.0, 10.5, 0.0, 1.0, false), 33.5);
+  // In the simulator: a thigh swung at full torque reaches 84 rad/s without the line; with it, it
+  // creeps up to the no-load speed, and gravity and the trunk's counter-rotation carry it a few
+  // percent past (21.6 rad/s measured).
+  EXPECT_GT(FastestThighSwing(false), 60.0);
+  const double limited = FastestThighSwing(true);
+  EXPECT_GT(limited, 0.95 * a1::kJointVelocityLimit);
+  EXPECT_LT(limited, 1.05 * a1::kJointVelocityLimit);
 }
 
 TEST(Env, MotorStrengthScalesThePdTorque) {
@@ -392,7 +435,9 @@ TEST(EnvTermination, JointFasterThanMaxJointSpeedEndsTheEpisode) {
     Env env(SceneModel(), config, 11);
     const Termination t = env.Step(swing.data());
     EXPECT_EQ(t, expected) << "limit " << limit << " rad/s, fastest joint " << fastest;
-    if (t == Termination::kJointSpeed) EXPECT_TRUE(IsFailure(t));
+    if (t == Termination::kJointSpeed) {
+      EXPECT_TRUE(IsFailure(t));
+    }
   }
   EXPECT_STREQ(ToString(Termination::kJointSpeed), "joint_speed");
 }

@@ -55,7 +55,8 @@ RobotState A1Emulator::TrueState() const {
 }
 
 // The motors: each runs tau = tau_ff + Kp (q* - q) + Kd (dq* - dq) in servo mode, nothing in
-// damping mode, as the A1's motor drivers do; the simulator clips it to 33.5 N m.
+// damping mode, as the A1's motor drivers do; the simulator clips it to 33.5 N m and to the
+// motors' torque-speed line (MotorTorque).
 void A1Emulator::RunPhysics() {
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a1::kPhysicsDt));
   auto next = Clock::now();

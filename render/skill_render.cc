@@ -75,7 +75,7 @@ int FrameInterval(int fps) { return std::max(1, static_cast<int>(std::lround(1.0
 class SkillRollout {
  public:
   SkillRollout(const SkillLibrary& library, const mjModel& model, int skill, int steps, uint64_t seed)
-      : library_(library), skill_(skill), env_(model, NominalConfig(steps), seed), policy_(library) {
+      : library_(library), skill_(skill), env_(model, NominalConfig(steps, library), seed), policy_(library) {
     env_.Reset();
   }
 
@@ -92,11 +92,12 @@ class SkillRollout {
   double seconds() const { return steps_done_ * a1::kControlDt; }
 
  private:
-  // No randomisation, and no time-out before `steps`.
-  static EnvConfig NominalConfig(int steps) {
+  // No randomisation, no time-out before `steps`, and the library's target filter.
+  static EnvConfig NominalConfig(int steps, const SkillLibrary& library) {
     EnvConfig config;
     config.randomization.DisableAll();
     config.episode_steps = steps + 1;
+    config.action_filter_hz = library.action_filter_hz();
     return config;
   }
 

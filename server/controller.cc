@@ -18,6 +18,7 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       supervisor_(config.safety),
       runner_(library),
       hierarchy_(library.selector() ? std::optional<HierarchicalPolicy>(std::in_place, library) : std::nullopt),
+      target_filter_(library.action_filter_hz()),
       policy_obs_(PolicyObservationSize(library.num_skills())) {
   state_ = backend_.Read();
   Publish();
@@ -93,6 +94,7 @@ void Controller::Tick() {
     pending_mode_ = flsd_msgs_MODE_IDLE;
     pending_ticks_ = 0;
     previous_action_.fill(0.0f);  // as at the start of a training episode
+    target_filter_.Reset(state_.joint_position);
     if (hierarchy_) hierarchy_->Reset();
   }
   JointCommand command;
@@ -290,7 +292,8 @@ JointCommand Controller::PolicyCommand() {
     }
   }
   previous_action_ = action_;
-  a1::JointArray<double> target = JointTargetsFromAction(action_.data());
+  // The filter sees the targets as training's did; only its output is clamped for the motors.
+  a1::JointArray<double> target = target_filter_.Apply(JointTargetsFromAction(action_.data()));
   SafetySupervisor::ClampTargets(target);
   --task_ticks_left_;
   return JointCommand::Track(target);

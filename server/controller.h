@@ -14,6 +14,7 @@
 #include "flsd_msgs.h"
 #include "robot/backend.h"
 #include "robot/observation.h"
+#include "robot/target_filter.h"
 #include "server/safety.h"
 #include "server/server_config.h"
 #include "skills/runtime/skill_library.h"
@@ -123,6 +124,7 @@ class Controller {
   SafetySupervisor supervisor_;
   PolicyRunner runner_;
   std::optional<HierarchicalPolicy> hierarchy_;  // when the library has a selector
+  TargetFilter target_filter_;                   // the library's, as in training
 
   // Control-thread state.
   RobotState state_;

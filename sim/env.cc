@@ -42,7 +42,8 @@ Env::Env(const mjModel& model, const EnvConfig& config, uint64_t seed)
       data_(mj_makeData(model_.get())),
       index_(A1ModelIndex::Find(*model_)),
       config_(config),
-      rng_(seed) {
+      rng_(seed),
+      target_filter_(config.action_filter_hz) {
   FLSD_DEMAND(data_ != nullptr);
   if (std::abs(model_->opt.timestep - a1::kPhysicsDt) > 1e-12) {
     throw InputError(config.model + ": option timestep is " + std::to_string(model_->opt.timestep) +
@@ -70,6 +71,7 @@ void Env::Reset() {
   history_head_ = 0;
   episode_step_ = 0;
   SyncState();
+  target_filter_.Reset(state_.joint_position);
 }
 
 void Env::SampleRandomization() {
@@ -132,7 +134,8 @@ Termination Env::Step(const float* action) {
   history_head_ = (history_head_ + 1) % kHistory;
   std::copy(action, action + a1::kNumJoints, action_history_[history_head_].begin());
   const int delayed = (history_head_ - randomization_.action_delay + kHistory) % kHistory;
-  return Advance(JointCommand::Track(JointTargetsFromAction(action_history_[delayed].data())), a1::kDecimation);
+  const a1::JointArray<double>& targets = target_filter_.Apply(JointTargetsFromAction(action_history_[delayed].data()));
+  return Advance(JointCommand::Track(targets), a1::kDecimation);
 }
 
 Termination Env::StepCommand(const JointCommand& command, int substeps) { return Advance(command, substeps); }

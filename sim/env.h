@@ -7,6 +7,7 @@
 
 #include "core/rng.h"
 #include "robot/robot_state.h"
+#include "robot/target_filter.h"
 #include "sim/env_config.h"
 #include "sim/mujoco_model.h"
 
@@ -49,7 +50,8 @@ class Env {
   void Reset();
 
   // Advances one control step with policy action `action` (12 floats): joint targets
-  // q* = q_default + 0.25 a (after the drawn action delay), torque Kp (q* - q) - Kd qdot scaled by
+  // q* = q_default + 0.25 a (after the drawn action delay, through the target filter when
+  // EnvConfig::action_filter_hz is set), torque Kp (q* - q) - Kd qdot scaled by
   // the motor strength and clipped to +-33.5 N m, recomputed at each of the 4 physics steps.
   // Returns why the episode ended, or kNone. The env does not reset itself. After kPhysics,
   // state() still holds the last valid state (MuJoCo has already reset its data).
@@ -101,6 +103,7 @@ class Env {
   std::array<std::array<float, a1::kNumJoints>, kHistory> action_history_{};
   int history_head_ = 0;
   int push_interval_steps_ = 0;
+  TargetFilter target_filter_;
 
   RobotState state_;
   int episode_step_ = 0;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/config.h"
+#include "robot/target_filter.h"
 
 namespace flsd {
 
@@ -104,6 +105,9 @@ struct EnvConfig {
   // simulated joints reached 24-56 rad/s in training, past what the A1's motors can turn and what
   // skilld's supervisor allows. Runs trained before it existed had it off.
   bool torque_speed_limit = true;
+  // Hz; 0 is off. The cutoff of the low-pass filter between a policy's joint targets and the
+  // motors (robot/target_filter.h). A skill library records it and skilld runs the same filter.
+  double action_filter_hz = 0.0;
   ResetConfig reset;
   TerminationConfig termination;
   RandomizationConfig randomization;
@@ -112,6 +116,7 @@ struct EnvConfig {
     v("model", model);
     v("episode_steps", episode_steps, Bounds<int>{1, 10000000});
     v("torque_speed_limit", torque_speed_limit);
+    v("action_filter_hz", action_filter_hz, Bounds<double>{0.0, TargetFilter::kMaxCutoffHz});
     v("reset", reset);
     v("termination", termination);
     v("randomization", randomization);

@@ -77,6 +77,11 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
       normalizer_(obs_size_),
       ppo_(policy_, config.ppo) {
   ValidateTaskTrainConfig(config, "task training config");
+  if (library_ && config.env.action_filter_hz != library_->action_filter_hz()) {
+    throw InputError("env.action_filter_hz: " + std::to_string(config.env.action_filter_hz) + " Hz, but the skills of " +
+                     library_->path() + " were trained behind a " + std::to_string(library_->action_filter_hz()) +
+                     " Hz target filter (0: none); the selector must run them behind the same");
+  }
   const int n = num_envs_, t = steps_;
   if (library_) {
     skill_runners_.reserve(n);
@@ -344,6 +349,10 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
   if (!options.library.empty()) config.library = options.library;
   if (options.iterations > 0) config.iterations = options.iterations;
   ValidateTaskTrainConfig(config, folder.config_file);
+  // A new selector runs its skills behind the target filter they were trained with.
+  if (!options.resume && ParseTaskMethod(config.method) == TaskMethod::kSelector) {
+    config.env.action_filter_hz = SkillLibrary::Load(config.library).action_filter_hz();
+  }
   RecordRunStart(folder, ToYamlString(config), options.resume);
   ConfigureTorchThreads(config.num_threads);
 

@@ -18,6 +18,7 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
                                     double settle_seconds, uint64_t seed) {
   EnvConfig config = env_config;
   config.randomization.DisableAll();
+  config.action_filter_hz = library.action_filter_hz();  // as skilld runs the skills
   const int steps = static_cast<int>(std::lround(seconds / a1::kControlDt));
   const int settle = static_cast<int>(std::lround(settle_seconds / a1::kControlDt));
   config.episode_steps = steps + 1;

@@ -9,6 +9,7 @@
 #include "core/check.h"
 #include "robot/a1.h"
 #include "robot/observation.h"
+#include "robot/target_filter.h"
 #include "skills/runtime/safetensors.h"
 
 namespace flsd {
@@ -196,6 +197,13 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   m.ExpectNumber("/action/scale", a1::kActionScale);
   m.ExpectNumber("/action/clip", a1::kActionClip);
   m.ExpectNumbers("/action/default_joint_positions", DefaultPose());
+  // Libraries exported before the target filter existed have no filter_hz: they ran without one.
+  if (m.Has("/action/filter_hz")) {
+    lib.action_filter_hz_ = m.Get<double>("/action/filter_hz");
+    if (!(lib.action_filter_hz_ >= 0.0 && lib.action_filter_hz_ <= TargetFilter::kMaxCutoffHz)) {
+      m.Fail("/action/filter_hz", "must be within [0, " + std::to_string(TargetFilter::kMaxCutoffHz) + "] Hz");
+    }
+  }
   m.ExpectNumber("/control/kp", a1::kKp);
   m.ExpectNumber("/control/kd", a1::kKd);
   m.ExpectNumber("/control/control_dt", a1::kControlDt);

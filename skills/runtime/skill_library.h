@@ -65,6 +65,9 @@ class SkillLibrary {
   // The skill selector, if the library carries one (flsd export-selector).
   const std::optional<SelectorNetwork>& selector() const { return selector_; }
   const std::vector<SkillDescriptor>& skills() const { return skills_; }
+  // The cutoff of the target filter the skills were trained behind (0: none); whoever runs the
+  // policy runs a TargetFilter with it.
+  double action_filter_hz() const { return action_filter_hz_; }
   const nlohmann::json& metadata() const { return metadata_; }
   const std::string& path() const { return path_; }
   // A hash of the file's bytes (FNV-1a, 64 bits, hex): what a selector records of the library it
@@ -76,6 +79,7 @@ class SkillLibrary {
   nlohmann::json metadata_;
   int num_skills_ = 0;
   int policy_obs_size_ = 0;
+  double action_filter_hz_ = 0.0;
   DenseNetwork policy_;
   std::optional<SelectorNetwork> selector_;
   std::vector<SkillDescriptor> skills_;

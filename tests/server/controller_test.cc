@@ -11,6 +11,8 @@
 #include <cmath>
 #include <set>
 
+#include "skills/runtime/safetensors.h"
+#include "tests/common/test_support.h"
 #include "tests/server/server_fixture.h"
 
 #include "tests/common/malloc_counter.h"
@@ -289,6 +291,64 @@ TEST_F(ControllerTest, UpdatesAndStopsForAnotherTaskAreIgnored) {
   controller_.Tick();
   EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_NO_PATH);
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+}
+
+// The sim backend, remembering the last command the controller sent.
+class RecordingBackend : public Backend {
+ public:
+  const char* name() const override { return "recording sim"; }
+  void Send(const JointCommand& command) override {
+    last = command;
+    sim.Send(command);
+  }
+  RobotState Read() override { return sim.Read(); }
+  SimBackend sim{SimBackendConfig{}};
+  JointCommand last;
+};
+
+TEST(ControllerTargetFilter, ASkillRunsBehindTheLibrarysFilterFromThePoseItStartsIn) {
+  // The shipped library, its metadata saying its skills were trained behind a 4 Hz filter.
+  SafeTensors file = ReadSafeTensors(ResolveDataPath("models/a1_flsd.safetensors"));
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  meta["action"]["filter_hz"] = 4.0;
+  file.metadata["flsd"] = meta.dump();
+  const std::string path = testutil::UniqueTempPath("filtered.safetensors");
+  WriteSafeTensors(path, file);
+  const SkillLibrary library = SkillLibrary::Load(path);
+  std::remove(path.c_str());
+
+  RecordingBackend backend;
+  Controller controller(backend, library, ServerConfig{});
+  ControlRequest stand, skill;
+  stand.kind = ControlRequest::Kind::kStand;
+  skill.kind = ControlRequest::Kind::kSkill;
+  skill.skill = 3;
+  skill.duration = 1.0;
+  ASSERT_TRUE(controller.Submit(stand));
+  for (int i = 0; i < 150; ++i) controller.Tick();
+  ASSERT_TRUE(controller.Submit(skill));
+  // Tick until the skill's first command; the pose it starts from is the last state read.
+  RobotState start;
+  while (controller.status().mode != flsd_msgs_MODE_SKILL) {
+    start = backend.sim.Read();
+    controller.Tick();
+  }
+  // The policy's own first action, as the controller computes it.
+  std::vector<float> motion(kMotionObsSize), obs(library.policy_obs_size()), action(kActionSize);
+  const std::vector<float> zero(kActionSize, 0.0f);
+  BuildMotionObservation(start, motion.data());
+  BuildPolicyObservation(motion.data(), zero.data(), 3, library.num_skills(), obs.data());
+  PolicyRunner(library).Act(obs.data(), action.data());
+  const a1::JointArray<double> unfiltered = JointTargetsFromAction(action.data());
+  const double g = 1.0 - std::exp(-2.0 * M_PI * 4.0 * a1::kControlDt);
+  double largest_step = 0.0;
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    const double expected = std::clamp(start.joint_position[j] + g * (unfiltered[j] - start.joint_position[j]),
+                                       a1::JointMin(j), a1::JointMax(j));
+    EXPECT_NEAR(backend.last.position[j], expected, 1e-9) << a1::kJointNames[j];
+    largest_step = std::max(largest_step, std::abs(unfiltered[j] - start.joint_position[j]));
+  }
+  EXPECT_GT(largest_step, 0.05);  // the check means something: the policy asked for a move
 }
 
 TEST_F(ControllerTest, TheVelocityTickAllocatesNothing) {

@@ -288,6 +288,24 @@ TEST(Env, TheMotorsTorqueSpeedLineKeepsAJointUnderTheA1sSpeedLimit) {
   EXPECT_LT(limited, 1.05 * a1::kJointVelocityLimit);
 }
 
+TEST(Env, TheTargetFilterMovesTheFirstTargetPartWayFromThePoseAtReset) {
+  // From the exact default pose, a 4 Hz filter's first target is q0 + g 0.25 a with g = 0.395:
+  // the same step as the unfiltered env given g a.
+  EnvConfig config = DeterministicConfig();
+  config.action_filter_hz = 4.0;
+  Env env(SceneModel(), config, 2);
+  const Action action = Varied();
+  MjDataPtr replay = CopyData(env);
+  ASSERT_EQ(env.Step(action.data()), Termination::kNone);
+  const double g = 1.0 - std::exp(-2.0 * M_PI * 4.0 * a1::kControlDt);
+  Action part_way;
+  for (int j = 0; j < kActionSize; ++j) part_way[j] = static_cast<float>(g * action[j]);
+  Strengths full;
+  full.fill(1.0);
+  ReplayControlStep(env, *replay, part_way, full);
+  ExpectSameState(env.model(), env.data(), *replay, 1e-6);
+}
+
 TEST(Env, MotorStrengthScalesThePdTorque) {
   Env env(SceneModel(), WithOnly(&RandomizationConfig::motor_strength, {0.5, 0.5}), 4);
   for (double s : env.randomization().motor_strength) EXPECT_EQ(s, 0.5);

@@ -29,6 +29,7 @@ TEST(ShippedLibrary, LoadsWithItsSelectorAndThreeSkillsKeepTheRobotUpFor10s) {
   EnvConfig config;
   config.randomization.DisableAll();
   config.episode_steps = 10000;
+  config.action_filter_hz = library.action_filter_hz();
   const MjModelPtr model = LoadMjModel(config.model);
   PolicyRunner policy(library);
   for (int n = 0; n < 3; ++n) {

@@ -147,6 +147,27 @@ TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["num_skills"] = kSkills + 1; }), HasSubstr("skill_onehot"));
 }
 
+TEST_F(SkillLibraryTest, CarriesTheTargetFilterOfTraining) {
+  EXPECT_EQ(SkillLibrary::Load(path_).action_filter_hz(), 0.0);
+  TrainConfig filtered = config_;
+  filtered.env.action_filter_hz = 4.0;
+  const std::string path = UniqueTempPath("filtered.safetensors");
+  WriteSkillLibrary(path, filtered, policy_, FakeEvaluation(kSkills), ExportProvenance{"run", "abc", "def"});
+  EXPECT_EQ(SkillLibrary::Load(path).action_filter_hz(), 4.0);
+  std::remove(path.c_str());
+  // Libraries from before the filter have no entry, and ran without one; a bad one is named.
+  SafeTensors file = ReadSafeTensors(path_);
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  meta["action"].erase("filter_hz");
+  file.metadata["flsd"] = meta.dump();
+  const std::string old = UniqueTempPath("old.safetensors");
+  WriteSafeTensors(old, file);
+  EXPECT_EQ(SkillLibrary::Load(old).action_filter_hz(), 0.0);
+  std::remove(old.c_str());
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["action"]["filter_hz"] = 40.0; }),
+              HasSubstr("/action/filter_hz must be within [0, 25"));
+}
+
 TEST_F(SkillLibraryTest, RejectsBadTensors) {
   SafeTensors file = ReadSafeTensors(path_);
   SafeTensors missing = file;

@@ -20,7 +20,7 @@ uint32_t SafetySupervisor::Hazards(const RobotState& state, const SafetyConfig& 
     if (!(q >= a1::JointMin(j) - config.joint_range_margin && q <= a1::JointMax(j) + config.joint_range_margin)) {
       faults |= kFaultJointRange;
     }
-    if (!(std::abs(state.joint_velocity[j]) <= config.max_joint_velocity)) faults |= kFaultJointVelocity;
+    if (!std::isfinite(state.joint_velocity[j])) faults |= kFaultJointVelocity;  // the speed is timed in Check
   }
   return faults;
 }
@@ -31,6 +31,8 @@ uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_
     faults |= kFaultLowBase;
   }
   for (int j = 0; j < a1::kNumJoints; ++j) {
+    over_speed_time_[j] = !(std::abs(state.joint_velocity[j]) <= config_.max_joint_velocity) ? over_speed_time_[j] + dt : 0.0;
+    if (over_speed_time_[j] > config_.max_joint_velocity_time + 1e-9) faults |= kFaultJointVelocity;
     const bool saturated = std::abs(state.joint_torque[j]) >= a1::kTorqueLimit - 1e-6;
     saturated_time_[j] = saturated ? saturated_time_[j] + dt : 0.0;
     // The tolerance keeps a whole number of ticks that sums to the limit from tripping early.

@@ -15,7 +15,7 @@ enum FaultBit : uint32_t {
   kFaultTilt = 1u << 0,           // attitude beyond max_tilt: a fall
   kFaultLowBase = 1u << 1,        // base below min_base_height: a fall
   kFaultJointRange = 1u << 2,     // a joint outside its range by more than the margin
-  kFaultJointVelocity = 1u << 3,  // a joint faster than max_joint_velocity
+  kFaultJointVelocity = 1u << 3,  // a joint faster than max_joint_velocity for too long
   kFaultTorque = 1u << 4,         // a joint at the torque limit for longer than allowed
   kFaultBackend = 1u << 5,        // the backend's state cannot be trusted
   kFaultPolicy = 1u << 6,         // the policy produced a non-finite action
@@ -38,6 +38,7 @@ class SafetySupervisor {
   uint32_t Check(const RobotState& state, double dt, bool check_height = true);
   void Reset() {
     saturated_time_.fill(0.0);
+    over_speed_time_.fill(0.0);
     over_power_time_ = 0.0;
   }
   // Mechanical power of the 12 motors, sum of |tau qdot|, W (the vendor SDK's PowerProtect sum).
@@ -58,6 +59,7 @@ class SafetySupervisor {
  private:
   SafetyConfig config_;
   a1::JointArray<double> saturated_time_{};
+  a1::JointArray<double> over_speed_time_{};
   double over_power_time_ = 0.0;
 };
 

@@ -17,6 +17,10 @@ struct SafetyConfig {
   double min_base_height = 0.12;      // m; 0 turns the check off (an estimated height may drift)
   double joint_range_margin = 0.1;    // rad a joint may be outside the A1's range before a trip
   double max_joint_velocity = a1::kJointVelocityLimit;  // rad/s, the A1 motor's limit
+  // s a joint may stay above max_joint_velocity. The motors cannot drive a joint past their
+  // no-load speed; a foot strike can, for a tick. A joint that stays past it for longer is being
+  // driven by something else: a fall, a collision, a motor out of control. 0 trips at once.
+  double max_joint_velocity_time = 0.04;
   double max_torque_saturation = 0.5;  // s a joint may sit at the torque limit
   double max_power = 1000.0;       // W, sum of |tau qdot| (the SDK's PowerProtect at its level 10)
   double max_power_time = 0.1;     // s above max_power before a trip
@@ -30,6 +34,7 @@ struct SafetyConfig {
     v("min_base_height", min_base_height, Bounds<double>{0.0, 0.5});
     v("joint_range_margin", joint_range_margin, Bounds<double>{0.0, 1.0});
     v("max_joint_velocity", max_joint_velocity, Bounds<double>{1.0, 100.0});
+    v("max_joint_velocity_time", max_joint_velocity_time, Bounds<double>{0.0, 1.0});
     v("max_torque_saturation", max_torque_saturation, Bounds<double>{0.02, 10.0});
     v("max_power", max_power, Bounds<double>{10.0, 10000.0});
     v("max_power_time", max_power_time, Bounds<double>{0.0, 10.0});

@@ -83,13 +83,25 @@ TEST(SafetySupervisor, JointOutsideItsRangeByMoreThanTheMarginTrips) {
   EXPECT_EQ(supervisor.Check(s, 0.02), kFaultJointRange);
 }
 
-TEST(SafetySupervisor, JointVelocityTripsAboveTheLimit) {
-  SafetySupervisor supervisor{SafetyConfig{}};
+TEST(SafetySupervisor, JointVelocityTripsWhenItStaysAboveTheLimitLongerThanAFootStrike) {
+  SafetySupervisor supervisor{SafetyConfig{}};  // 21 rad/s for at most 0.04 s
   RobotState s = Standing();
   s.joint_velocity[7] = -20.9;
   EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+  // One tick past it, as a foot strike gives, then back under: no trip, and the time restarts.
   s.joint_velocity[7] = -21.1;
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+  s.joint_velocity[7] = -15.0;
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+  // Three ticks past it (0.06 s) trip on the third.
+  s.joint_velocity[7] = -21.1;
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
+  EXPECT_EQ(supervisor.Check(s, 0.02), 0u);
   EXPECT_EQ(supervisor.Check(s, 0.02), kFaultJointVelocity);
+  // With no time allowed, the first sample past the limit trips.
+  SafetyConfig strict;
+  strict.max_joint_velocity_time = 0.0;
+  EXPECT_EQ(SafetySupervisor(strict).Check(s, 0.02), kFaultJointVelocity);
 }
 
 TEST(SafetySupervisor, TorqueSaturationTripsAfterItsTimeAndResetsWhenItEnds) {

@@ -9,11 +9,7 @@ function(flsd_test name source label)
   add_executable(${name} ${source})
   target_link_libraries(${name} PRIVATE GTest::gtest_main ${arg_UNPARSED_ARGUMENTS})
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
-  set(serial FALSE)
-  if(arg_RUN_SERIAL)
-    set(serial TRUE)
-  endif()
-  gtest_discover_tests(${name} PROPERTIES LABELS ${label} RUN_SERIAL ${serial} DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(${name} PROPERTIES LABELS ${label} RUN_SERIAL ${arg_RUN_SERIAL} DISCOVERY_TIMEOUT 60)
 endfunction()
 
 # flsd_torch_test(NAME SOURCE LABEL [LIBS...]): as flsd_test, but the whole executable is one ctest

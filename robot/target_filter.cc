@@ -7,7 +7,7 @@
 
 namespace flsd {
 
-TargetFilter::TargetFilter(double cutoff_hz) : cutoff_hz_(cutoff_hz) {
+TargetFilter::TargetFilter(double cutoff_hz) {
   if (!(cutoff_hz >= 0.0 && cutoff_hz <= kMaxCutoffHz)) {
     throw InputError("action filter cutoff: expected 0 (off) to " + std::to_string(kMaxCutoffHz) + " Hz, got " +
                      std::to_string(cutoff_hz));

@@ -24,11 +24,9 @@ class TargetFilter {
   // One control step: moves the output toward `targets` by the fraction 1 - exp(-2 pi fc dt).
   const a1::JointArray<double>& Apply(const a1::JointArray<double>& targets);
 
-  double cutoff_hz() const { return cutoff_hz_; }
   static constexpr double kMaxCutoffHz = 0.5 / a1::kControlDt;
 
  private:
-  double cutoff_hz_;
   double gain_;  // the fraction of the remaining step taken per control step
   a1::JointArray<double> output_ = a1::kDefaultJointPos;
 };

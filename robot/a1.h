@@ -29,6 +29,9 @@ inline constexpr std::array<double, kJointsPerLeg> kLegJointMin = {-0.802851, -1
 inline constexpr std::array<double, kJointsPerLeg> kLegJointMax = {0.802851, 4.18879, -0.916298};
 inline constexpr double kTorqueLimit = 33.5;          // N m, every joint
 inline constexpr double kJointVelocityLimit = 21.0;  // rad/s, every joint
+// s a joint may stay past kJointVelocityLimit before skilld's supervisor stops it (by default).
+// The motors cannot drive a joint past their no-load speed; a foot strike can, for a tick.
+inline constexpr double kJointOverspeedTolerance = 0.04;
 
 inline constexpr double JointMin(int joint) { return kLegJointMin[joint % kJointsPerLeg]; }
 inline constexpr double JointMax(int joint) { return kLegJointMax[joint % kJointsPerLeg]; }

@@ -17,10 +17,10 @@ struct SafetyConfig {
   double min_base_height = 0.12;      // m; 0 turns the check off (an estimated height may drift)
   double joint_range_margin = 0.1;    // rad a joint may be outside the A1's range before a trip
   double max_joint_velocity = a1::kJointVelocityLimit;  // rad/s, the A1 motor's limit
-  // s a joint may stay above max_joint_velocity. The motors cannot drive a joint past their
-  // no-load speed; a foot strike can, for a tick. A joint that stays past it for longer is being
-  // driven by something else: a fall, a collision, a motor out of control. 0 trips at once.
-  double max_joint_velocity_time = 0.04;
+  // s a joint may stay above max_joint_velocity. A joint that stays past it for longer than a foot
+  // strike lasts is being driven by something else: a fall, a collision, a motor out of control.
+  // 0 trips at once.
+  double max_joint_velocity_time = a1::kJointOverspeedTolerance;
   double max_torque_saturation = 0.5;  // s a joint may sit at the torque limit
   double max_power = 1000.0;       // W, sum of |tau qdot| (the SDK's PowerProtect at its level 10)
   double max_power_time = 0.1;     // s above max_power before a trip

@@ -154,6 +154,7 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
                       {"high_frequency_ratio", s.high_frequency_ratio},
                       {"mean_stance_foot_speed", s.mean_stance_foot_speed},
                       {"max_joint_speed", s.max_joint_speed},
+                      {"longest_overspeed_s", s.longest_overspeed_s},
                       {"displacement", Array(s.displacement.data(), 2)},
                       {"task_reward_per_s", TermsJson(s.task_reward_per_s)}});
   }
@@ -181,13 +182,14 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
 std::string SkillSummaryCsv(const Evaluation& e) {
   std::ostringstream out;
   out << "skill,survival_steps,fell,vx,vy,vz,wx,wy,wz,base_height,gait_frequency_hz,high_frequency_ratio,"
-         "stance_foot_speed,max_joint_speed,dx,dy,task_tracking_per_s,task_reward_per_s\n";
+         "stance_foot_speed,max_joint_speed,longest_overspeed_s,dx,dy,task_tracking_per_s,task_reward_per_s\n";
   for (const SkillSummary& s : e.skills) {
     out << s.skill << ',' << s.survival_steps << ',' << s.fell;
     for (double v : s.mean_linear_velocity) out << ',' << v;
     for (double v : s.mean_angular_velocity) out << ',' << v;
     out << ',' << s.mean_base_height << ',' << s.gait_frequency_hz << ',' << s.high_frequency_ratio << ','
-        << s.mean_stance_foot_speed << ',' << s.max_joint_speed << ',' << s.displacement[0] << ',' << s.displacement[1] << ','
+        << s.mean_stance_foot_speed << ',' << s.max_joint_speed << ',' << s.longest_overspeed_s << ','
+        << s.displacement[0] << ',' << s.displacement[1] << ','
         << s.task_reward_per_s.tracking_lin_vel + s.task_reward_per_s.tracking_ang_vel << ','
         << s.task_reward_per_s.total << '\n';
   }

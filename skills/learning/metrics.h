@@ -94,8 +94,10 @@ struct SkillSummary {
   double gait_frequency_hz = 0.0;
   double high_frequency_ratio = 0.0;
   double mean_stance_foot_speed = 0.0;  // m/s: how much the feet slide while they bear weight
-  double max_joint_speed = 0.0;         // rad/s, over all joints: above a1::kJointVelocityLimit,
-                                        // skilld's supervisor stops the skill
+  double max_joint_speed = 0.0;         // rad/s, over all joints
+  // s, the longest one joint stays past a1::kJointVelocityLimit without a break: beyond
+  // a1::kJointOverspeedTolerance, skilld's supervisor stops the skill.
+  double longest_overspeed_s = 0.0;
   std::array<double, 2> displacement{};  // world x, y, m
   // legged_gym's velocity-task reward per second (scaled terms, unclipped total) when the skill is
   // commanded its own mean velocity: the most a skill selector could earn from it (flsd eval).

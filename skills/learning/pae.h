@@ -21,6 +21,11 @@ struct PaeConfig {
   int epochs = 1;             // passes over the sampled windows per iteration
   int minibatch_size = 512;
   double sample_fraction = 0.25;  // share of an iteration's windows the PAE trains on
+  // The convolutions extend the window by repeating its end frames, not by zeros. With zeros, the
+  // ends of a still window carry its level through the encoder (the time normalisation removes
+  // only the mean and the scale), so a still posture has a manifold point of its own and the
+  // discriminator tells postures apart: the single-step state that FLSD means to replace.
+  bool replicate_padding = true;
   template <class V>
   void Visit(V& v) {
     v("latent_channels", latent_channels, Bounds<int>{1, 64});
@@ -31,6 +36,7 @@ struct PaeConfig {
     v("epochs", epochs, Bounds<int>{0, 1000});
     v("minibatch_size", minibatch_size, Bounds<int>{1, 1 << 20});
     v("sample_fraction", sample_fraction, Bounds<double>{0.0, 1.0});
+    v("replicate_padding", replicate_padding);
   }
 };
 
@@ -69,6 +75,8 @@ class PeriodicAutoencoderImpl : public torch::nn::Module {
   const torch::Tensor& time_window() const { return time_window_; }
 
  private:
+  // A "same" convolution: the output as long as the input, padded by zeros or repeated end frames.
+  torch::Tensor Conv(torch::nn::Conv1d& conv, const torch::Tensor& x);
   torch::Tensor Encode(const torch::Tensor& windows);
   torch::Tensor Phase(const torch::Tensor& z);  // Eq. 7
   torch::Tensor ManifoldOf(const FourierParameters& f, const torch::Tensor& phase) const;  // Eq. 8
@@ -76,6 +84,7 @@ class PeriodicAutoencoderImpl : public torch::nn::Module {
   int window_;
   int latent_channels_;
   double sample_rate_hz_;
+  int replicated_frames_;  // frames repeated at each end before a convolution; 0 pads by zeros
   torch::nn::Conv1d encoder1_{nullptr}, encoder2_{nullptr}, decoder1_{nullptr}, decoder2_{nullptr};
   torch::Tensor encoder_norm_weight_, encoder_norm_bias_, decoder_norm_weight_, decoder_norm_bias_;
   torch::Tensor phase_weight_, phase_bias_;  // one Linear(H -> 2) per channel: [D, 2, H], [D, 2]

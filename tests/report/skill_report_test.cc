@@ -91,10 +91,16 @@ TEST(SkillReport, ComparesFlsdWithDiaynAsRatiosOfTheMethodMeans) {
 TEST(SkillReport, CountsSurvivorsWithinTheJointSpeedLimit) {
   std::vector<ReportRun> runs = TwoMethods();
   EXPECT_EQ(ReportJson(runs)["runs"][0]["survivors_within_joint_speed_limit"].get<int>(), 3);
-  // One sample of skill 1's joint 7 past the A1's 21 rad/s: skilld would stop it there.
-  runs[0].nominal.trajectories[1].points[300].joint_velocity[7] = -25.0;
+  // Two samples of skill 1's joint 7 past the A1's 21 rad/s (0.04 s): skilld lets that pass.
+  auto& points = runs[0].nominal.trajectories[1].points;
+  points[300].joint_velocity[7] = -25.0;
+  points[301].joint_velocity[7] = 22.0;
   ComputeMetrics(runs[0].nominal, kRate);
   EXPECT_DOUBLE_EQ(runs[0].nominal.skills[1].max_joint_speed, 25.0);
+  EXPECT_EQ(ReportJson(runs)["runs"][0]["survivors_within_joint_speed_limit"].get<int>(), 3);
+  // A third sample in a row (0.06 s) is where skilld would stop it.
+  points[302].joint_velocity[7] = 21.5;
+  ComputeMetrics(runs[0].nominal, kRate);
   EXPECT_EQ(ReportJson(runs)["runs"][0]["survivors_within_joint_speed_limit"].get<int>(), 2);
 }
 

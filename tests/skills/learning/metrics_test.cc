@@ -221,9 +221,24 @@ TEST(SummarizeSkill, MeansAndDisplacementByHand) {
   EXPECT_NEAR(r.displacement[1], -9.0, 1e-12);
   EXPECT_EQ(r.gait_frequency_hz, 0.0);     // the joints never move
   EXPECT_EQ(r.high_frequency_ratio, 0.0);
+  EXPECT_EQ(r.longest_overspeed_s, 0.0);
   const SkillSummary empty = SummarizeSkill(SkillTrajectory{}, kRate);
   EXPECT_EQ(empty.survival_steps, 0);
   EXPECT_EQ(empty.displacement[0], 0.0);
+}
+
+// Overspeed is timed per joint: two joints over in turn never make one long run.
+TEST(SummarizeSkill, TimesTheLongestRunOfOneJointPastTheSpeedLimit) {
+  const SkillTrajectory s = Trajectory(10, [](int i, TrajectoryPoint& p) {
+    p.joint_velocity.fill(0.0);
+    if (i == 1 || i == 3) p.joint_velocity[0] = 30.0;                // runs of 1
+    if (i == 2 || i == 4) p.joint_velocity[5] = -30.0;               // runs of 1, between them
+    if (i >= 6 && i <= 8) p.joint_velocity[11] = i == 7 ? -22.0 : 21.5;  // a run of 3
+    if (i == 9) p.joint_velocity[11] = 21.0;                         // at the limit is not past it
+  });
+  const SkillSummary r = SummarizeSkill(s, kRate);
+  EXPECT_NEAR(r.longest_overspeed_s, 3.0 / kRate, 1e-12);
+  EXPECT_DOUBLE_EQ(r.max_joint_speed, 30.0);
 }
 
 TEST(SummarizeSkill, CarriesTheGaitAndJitterOfTheSkill) {

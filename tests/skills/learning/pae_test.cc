@@ -213,6 +213,30 @@ TEST(PeriodicAutoencoder, EncoderLearnsThroughTheFourierLayer) {
   ExpectUsefulGradient(params["phase_weight"].grad(), "phase_weight");  // through atan2
 }
 
+// A still window says nothing about the posture it holds: with the end frames repeated, two
+// constant windows at different levels meet at one manifold point. With zero padding, the
+// window's ends carry its level through the encoder, and the points are far apart.
+TEST(PeriodicAutoencoder, StillPosturesShareAManifoldPointOnlyWithReplicatePadding) {
+  const torch::Tensor crouch = torch::full({1, kChannels, kWindow}, -0.8);
+  const torch::Tensor stand = torch::linspace(-1.0, 1.0, kChannels).view({1, kChannels, 1}).expand({1, kChannels, kWindow});
+  const torch::Tensor stills = torch::cat({crouch, stand}, 0);
+  for (bool replicate : {true, false}) {
+    torch::manual_seed(5);
+    PaeConfig c = SmallConfig();
+    c.replicate_padding = replicate;
+    PeriodicAutoencoder pae(kChannels, kWindow, kRate, c);
+    torch::NoGradGuard no_grad;
+    const torch::Tensor p = pae->Manifold(stills);
+    const double gap = (p[0] - p[1]).norm().item<double>();
+    const double size = p.norm().item<double>();
+    if (replicate) {
+      EXPECT_LT(gap, 1e-4 * size) << p;
+    } else {
+      EXPECT_GT(gap, 0.1 * size) << p;
+    }
+  }
+}
+
 TEST(PeriodicAutoencoder, EvenKernelIsRejected) {
   PaeConfig c = SmallConfig();
   c.kernel_size = 8;

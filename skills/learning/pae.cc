@@ -10,10 +10,12 @@ namespace {
 // Guards sqrt and division against an all-constant latent curve (zero spectral power).
 constexpr double kEps = 1e-8;
 
-// Padded by zeros itself, or, with `replicate`, by PeriodicAutoencoderImpl::Conv (libtorch 1.13's
-// own replicate padding made a training iteration ten times slower).
+// A convolution whose output is as long as its input: padded by zeros or by repeated end frames.
 torch::nn::Conv1d SameConv(int in, int out, int kernel, bool replicate) {
-  return torch::nn::Conv1d(torch::nn::Conv1dOptions(in, out, kernel).padding(replicate ? 0 : (kernel - 1) / 2));
+  torch::nn::Conv1dOptions options(in, out, kernel);
+  options.padding((kernel - 1) / 2);
+  if (replicate) options.padding_mode(torch::kReplicate);
+  return torch::nn::Conv1d(options);
 }
 
 // DeepPhase's LN_v2: each (sample, channel) curve normalised over time, with a learned gain and
@@ -42,10 +44,7 @@ FourierParameters ComputeFourierParameters(const torch::Tensor& z, double sample
 
 PeriodicAutoencoderImpl::PeriodicAutoencoderImpl(int input_channels, int window, double sample_rate_hz,
                                                  const PaeConfig& config)
-    : window_(window),
-      latent_channels_(config.latent_channels),
-      sample_rate_hz_(sample_rate_hz),
-      replicated_frames_(config.replicate_padding ? (config.kernel_size - 1) / 2 : 0) {
+    : window_(window), latent_channels_(config.latent_channels), sample_rate_hz_(sample_rate_hz) {
   if (config.kernel_size % 2 == 0) {
     throw InputError("pae.kernel_size must be odd, got " + std::to_string(config.kernel_size));
   }
@@ -67,16 +66,9 @@ PeriodicAutoencoderImpl::PeriodicAutoencoderImpl(int input_channels, int window,
   time_window_ = register_buffer("time_window", torch::linspace(-span / 2, span / 2, window));
 }
 
-torch::Tensor PeriodicAutoencoderImpl::Conv(torch::nn::Conv1d& conv, const torch::Tensor& x) {
-  if (replicated_frames_ == 0) return conv(x);
-  const int64_t n = replicated_frames_;
-  return conv(torch::cat({x.slice(2, 0, 1).expand({-1, -1, n}), x, x.slice(2, -1).expand({-1, -1, n})}, 2));
-}
-
 torch::Tensor PeriodicAutoencoderImpl::Encode(const torch::Tensor& windows) {
   FLSD_DEMAND(windows.dim() == 3 && windows.size(2) == window_);
-  return Conv(encoder2_,
-              torch::elu(TimeNorm(Conv(encoder1_, windows), encoder_norm_weight_, encoder_norm_bias_)));
+  return encoder2_(torch::elu(TimeNorm(encoder1_(windows), encoder_norm_weight_, encoder_norm_bias_)));
 }
 
 torch::Tensor PeriodicAutoencoderImpl::Phase(const torch::Tensor& z) {
@@ -107,8 +99,8 @@ PaeOutput PeriodicAutoencoderImpl::Forward(const torch::Tensor& windows) {
       f.amplitude.unsqueeze(2) *
           torch::sin(2.0 * M_PI * (f.frequency.unsqueeze(2) * t + out.phase.unsqueeze(2))) +
       f.offset.unsqueeze(2);
-  out.reconstruction = Conv(
-      decoder2_, torch::elu(TimeNorm(Conv(decoder1_, out.latent_signal), decoder_norm_weight_, decoder_norm_bias_)));
+  out.reconstruction = decoder2_(
+      torch::elu(TimeNorm(decoder1_(out.latent_signal), decoder_norm_weight_, decoder_norm_bias_)));
   out.manifold = ManifoldOf(f, out.phase);
   return out;
 }

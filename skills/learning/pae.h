@@ -75,8 +75,6 @@ class PeriodicAutoencoderImpl : public torch::nn::Module {
   const torch::Tensor& time_window() const { return time_window_; }
 
  private:
-  // A "same" convolution: the output as long as the input, padded by zeros or repeated end frames.
-  torch::Tensor Conv(torch::nn::Conv1d& conv, const torch::Tensor& x);
   torch::Tensor Encode(const torch::Tensor& windows);
   torch::Tensor Phase(const torch::Tensor& z);  // Eq. 7
   torch::Tensor ManifoldOf(const FourierParameters& f, const torch::Tensor& phase) const;  // Eq. 8
@@ -84,7 +82,6 @@ class PeriodicAutoencoderImpl : public torch::nn::Module {
   int window_;
   int latent_channels_;
   double sample_rate_hz_;
-  int replicated_frames_;  // frames repeated at each end before a convolution; 0 pads by zeros
   torch::nn::Conv1d encoder1_{nullptr}, encoder2_{nullptr}, decoder1_{nullptr}, decoder2_{nullptr};
   torch::Tensor encoder_norm_weight_, encoder_norm_bias_, decoder_norm_weight_, decoder_norm_bias_;
   torch::Tensor phase_weight_, phase_bias_;  // one Linear(H -> 2) per channel: [D, 2, H], [D, 2]

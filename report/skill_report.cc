@@ -214,7 +214,9 @@ std::string TableTwoHtml(const std::vector<ReportRun>& runs) {
   std::ostringstream h;
   h << "<table>\n"
     << Row({"run", "pooled ratio (> 10 Hz)", "per-skill mean", "per-skill std", "survivors (of skills)",
-            "with randomisation", "both", "survivors skilld runs (21 rad/s for at most 0.04 s)"},
+            "with randomisation", "both",
+            "survivors skilld runs (" + Fixed(a1::kJointVelocityLimit, 0) + " rad/s for at most " +
+                Fixed(a1::kJointOverspeedTolerance, 2) + " s)"},
            true);
   for (const ReportRun& r : runs) {
     const HighFrequencyResult& f = r.nominal.high_frequency;

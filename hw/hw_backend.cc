@@ -244,7 +244,7 @@ std::vector<std::string> HwBackend::Preflight() {
   frames_.Read(frame);
   for (int j = 0; j < a1::kNumJoints; ++j) {
     const double q = frame.motors[j].q;
-    if (!(q >= a1::JointMin(j) - 0.05 && q <= a1::JointMax(j) + 0.05)) {
+    if (!a1::WithinRange(j, q, 0.05)) {
       std::snprintf(text, sizeof text, "%s reads %.3f rad, outside its range [%.3f, %.3f]", a1::kJointNames[j], q,
                     a1::JointMin(j), a1::JointMax(j));
       failures.push_back(text);

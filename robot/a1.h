@@ -35,6 +35,10 @@ inline constexpr double kJointOverspeedTolerance = 0.04;
 
 inline constexpr double JointMin(int joint) { return kLegJointMin[joint % kJointsPerLeg]; }
 inline constexpr double JointMax(int joint) { return kLegJointMax[joint % kJointsPerLeg]; }
+// True when q lies in the joint's range widened by `margin` rad at both ends; false for NaN.
+inline constexpr bool WithinRange(int joint, double q, double margin) {
+  return q >= JointMin(joint) - margin && q <= JointMax(joint) + margin;
+}
 
 // legged_gym's A1 default pose (rad): the zero of every action and of the joint observation.
 inline constexpr JointArray<double> kDefaultJointPos = {

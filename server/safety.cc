@@ -17,9 +17,7 @@ uint32_t SafetySupervisor::Hazards(const RobotState& state, const SafetyConfig& 
   if (!(Tilt(state) <= config.max_tilt)) faults |= kFaultTilt;
   for (int j = 0; j < a1::kNumJoints; ++j) {
     const double q = state.joint_position[j];
-    if (!(q >= a1::JointMin(j) - config.joint_range_margin && q <= a1::JointMax(j) + config.joint_range_margin)) {
-      faults |= kFaultJointRange;
-    }
+    if (!a1::WithinRange(j, q, config.joint_range_margin)) faults |= kFaultJointRange;
     if (!std::isfinite(state.joint_velocity[j])) faults |= kFaultJointVelocity;  // the speed is timed in Check
   }
   return faults;
@@ -30,16 +28,14 @@ uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_
   if (check_height && config_.min_base_height > 0.0 && !(state.base_position.z() >= config_.min_base_height)) {
     faults |= kFaultLowBase;
   }
-  for (int j = 0; j < a1::kNumJoints; ++j) {
-    over_speed_time_[j] = !(std::abs(state.joint_velocity[j]) <= config_.max_joint_velocity) ? over_speed_time_[j] + dt : 0.0;
-    if (over_speed_time_[j] > config_.max_joint_velocity_time + 1e-9) faults |= kFaultJointVelocity;
-    const bool saturated = std::abs(state.joint_torque[j]) >= a1::kTorqueLimit - 1e-6;
-    saturated_time_[j] = saturated ? saturated_time_[j] + dt : 0.0;
-    // The tolerance keeps a whole number of ticks that sums to the limit from tripping early.
-    if (saturated_time_[j] > config_.max_torque_saturation + 1e-9) faults |= kFaultTorque;
+  if (Outlasts(over_speed_.Update(FasterThan(state.joint_velocity, config_.max_joint_velocity), dt),
+               config_.max_joint_velocity_time)) {
+    faults |= kFaultJointVelocity;
   }
+  const auto saturated = [&](int j) { return std::abs(state.joint_torque[j]) >= a1::kTorqueLimit - 1e-6; };
+  if (Outlasts(saturated_.Update(saturated, dt), config_.max_torque_saturation)) faults |= kFaultTorque;
   over_power_time_ = !(Power(state) <= config_.max_power) ? over_power_time_ + dt : 0.0;
-  if (over_power_time_ > config_.max_power_time + 1e-9) faults |= kFaultPower;
+  if (Outlasts(over_power_time_, config_.max_power_time)) faults |= kFaultPower;
   return faults;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstddef>
 
+#include "robot/joint_limit_timer.h"
 #include "robot/robot_state.h"
 #include "server/server_config.h"
 
@@ -37,8 +38,8 @@ class SafetySupervisor {
   // `check_height`: false while the robot rises from the floor, where a low base is expected.
   uint32_t Check(const RobotState& state, double dt, bool check_height = true);
   void Reset() {
-    saturated_time_.fill(0.0);
-    over_speed_time_.fill(0.0);
+    saturated_.Reset();
+    over_speed_.Reset();
     over_power_time_ = 0.0;
   }
   // Mechanical power of the 12 motors, sum of |tau qdot|, W (the vendor SDK's PowerProtect sum).
@@ -58,8 +59,8 @@ class SafetySupervisor {
 
  private:
   SafetyConfig config_;
-  a1::JointArray<double> saturated_time_{};
-  a1::JointArray<double> over_speed_time_{};
+  JointLimitTimer saturated_;   // at the torque limit
+  JointLimitTimer over_speed_;  // past max_joint_velocity
   double over_power_time_ = 0.0;
 };
 

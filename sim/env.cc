@@ -31,6 +31,7 @@ const char* ToString(Termination t) {
     case Termination::kTilt: return "tilt";
     case Termination::kLowBase: return "low_base";
     case Termination::kJointSpeed: return "joint_speed";
+    case Termination::kJointRange: return "joint_range";
     case Termination::kInvalidAction: return "invalid_action";
     case Termination::kPhysics: return "physics";
   }
@@ -70,6 +71,8 @@ void Env::Reset() {
   for (auto& a : action_history_) a.fill(0.0f);
   history_head_ = 0;
   episode_step_ = 0;
+  overspeed_.Reset();
+  longest_overspeed_ = 0.0;
   SyncState();
   target_filter_.Reset(state_.joint_position);
 }
@@ -164,6 +167,10 @@ Termination Env::Advance(const JointCommand& command, int substeps) {
     d.qvel[index_.root_qvel + 1] = Uniform(rng_, -push.max_velocity, push.max_velocity);
   }
   ReadState();
+  if (config_.termination.max_joint_speed > 0.0) {
+    longest_overspeed_ = overspeed_.Update(FasterThan(state_.joint_velocity, config_.termination.max_joint_speed),
+                                           substeps * model_->opt.timestep);
+  }
   return CheckTermination();
 }
 
@@ -232,9 +239,10 @@ Termination Env::CheckTermination() const {
   if (body_contact_ || (c.on_calf_contact && calf_contact_)) return Termination::kBodyContact;
   if (state_.ProjectedGravity().z() > -std::cos(c.max_tilt)) return Termination::kTilt;
   if (state_.base_position.z() < c.min_base_height) return Termination::kLowBase;
-  if (c.max_joint_speed > 0.0) {
-    for (double qd : state_.joint_velocity) {
-      if (std::abs(qd) > c.max_joint_speed) return Termination::kJointSpeed;
+  if (c.max_joint_speed > 0.0 && Outlasts(longest_overspeed_, c.max_joint_speed_time)) return Termination::kJointSpeed;
+  if (c.joint_range_margin >= 0.0) {
+    for (int j = 0; j < a1::kNumJoints; ++j) {
+      if (!a1::WithinRange(j, state_.joint_position[j], c.joint_range_margin)) return Termination::kJointRange;
     }
   }
   if (episode_step_ >= config_.episode_steps) return Termination::kTimeOut;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "robot/joint_limit_timer.h"
 #include "robot/robot_state.h"
 #include "robot/target_filter.h"
 #include "sim/env_config.h"
@@ -20,7 +21,8 @@ enum class Termination : unsigned char {
   kBodyContact,    // trunk, hip or thigh (optionally calf) touched the floor: a fall
   kTilt,           // attitude beyond TerminationConfig::max_tilt
   kLowBase,        // base below TerminationConfig::min_base_height
-  kJointSpeed,     // a joint faster than TerminationConfig::max_joint_speed
+  kJointSpeed,     // a joint past TerminationConfig::max_joint_speed for too long
+  kJointRange,     // a joint outside its range by more than TerminationConfig::joint_range_margin
   kInvalidAction,  // a NaN or infinite action; it was not applied
   kPhysics,        // MuJoCo reported an unstable simulation (bad acceleration, non-finite state)
 };
@@ -109,6 +111,8 @@ class Env {
   int episode_step_ = 0;
   bool body_contact_ = false;
   bool calf_contact_ = false;
+  JointLimitTimer overspeed_;
+  double longest_overspeed_ = 0.0;  // s, now
 };
 
 }  // namespace flsd

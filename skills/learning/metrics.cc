@@ -5,6 +5,8 @@
 #include <complex>
 #include <unordered_set>
 
+#include "robot/joint_limit_timer.h"
+
 namespace flsd {
 namespace {
 
@@ -162,13 +164,10 @@ SkillSummary SummarizeSkill(const SkillTrajectory& s, double rate_hz) {
   r.survival_steps = SurvivalSteps(s);
   r.fell = s.fell;
   if (s.points.empty()) return r;
-  std::array<int, a1::kNumJoints> overspeed_run{};
-  int longest_overspeed_run = 0;
+  JointLimitTimer overspeed;
   for (const TrajectoryPoint& p : s.points) {
-    for (int j = 0; j < a1::kNumJoints; ++j) {
-      overspeed_run[j] = std::abs(p.joint_velocity[j]) > a1::kJointVelocityLimit ? overspeed_run[j] + 1 : 0;
-      longest_overspeed_run = std::max(longest_overspeed_run, overspeed_run[j]);
-    }
+    r.longest_overspeed_s = std::max(
+        r.longest_overspeed_s, overspeed.Update(FasterThan(p.joint_velocity, a1::kJointVelocityLimit), 1.0 / rate_hz));
     for (int k = 0; k < 3; ++k) {
       r.mean_linear_velocity[k] += p.linear_velocity[k];
       r.mean_angular_velocity[k] += p.angular_velocity[k];
@@ -184,7 +183,6 @@ SkillSummary SummarizeSkill(const SkillTrajectory& s, double rate_hz) {
   }
   r.mean_base_height /= n;
   r.mean_stance_foot_speed /= n;
-  r.longest_overspeed_s = longest_overspeed_run / rate_hz;
   r.gait_frequency_hz = GaitFrequency(s, rate_hz);
   r.high_frequency_ratio = HighFrequencyPowerRatio({s}, rate_hz).pooled_ratio;
   r.displacement = {s.points.back().position[0] - s.points.front().position[0],

@@ -438,10 +438,12 @@ TEST(EnvTermination, BaseBelowMinHeightIsLowBase) {
 }
 
 TEST(EnvTermination, JointFasterThanMaxJointSpeedEndsTheEpisode) {
-  // A large action swings the joints; the fastest one after the step sets the threshold: a limit
-  // just below it ends the episode, one just above does not, and 0 (the default) never does.
+  // A large action swings the joints; the fastest one after the step sets the threshold: with no
+  // time allowed past it, a limit just below it ends the episode, one just above does not, and 0
+  // (the default) never does.
   const Action swing = Filled(4.0f);
   EnvConfig config = DeterministicConfig();
+  config.termination.max_joint_speed_time = 0.0;
   Env free_env(SceneModel(), config, 11);
   ASSERT_EQ(free_env.Step(swing.data()), Termination::kNone);
   double fastest = 0.0;
@@ -458,6 +460,44 @@ TEST(EnvTermination, JointFasterThanMaxJointSpeedEndsTheEpisode) {
     }
   }
   EXPECT_STREQ(ToString(Termination::kJointSpeed), "joint_speed");
+}
+
+TEST(EnvTermination, AJointPastMaxJointSpeedEndsTheEpisodeOnlyAfterMaxJointSpeedTime) {
+  // The supervisor's rule (a1::kJointOverspeedTolerance, 0.04 s): the joints swinging to a far
+  // target stay past a tiny limit at every 20 ms step, so the episode goes on at 0.02 and 0.04 s
+  // and ends at 0.06 s; a reset starts the count again.
+  const Action swing = Filled(4.0f);
+  EnvConfig config = DeterministicConfig();
+  config.termination.max_joint_speed = 1e-3;
+  ASSERT_DOUBLE_EQ(config.termination.max_joint_speed_time, a1::kJointOverspeedTolerance);
+  Env env(SceneModel(), config, 11);
+  for (int round = 0; round < 2; ++round) {
+    EXPECT_EQ(env.Step(swing.data()), Termination::kNone) << "round " << round;
+    EXPECT_EQ(env.Step(swing.data()), Termination::kNone) << "round " << round;
+    EXPECT_EQ(env.Step(swing.data()), Termination::kJointSpeed) << "round " << round;
+    env.Reset();
+  }
+}
+
+TEST(EnvTermination, AJointFurtherOutOfRangeThanTheMarginEndsTheEpisode) {
+  // The FR hip posed 0.3 rad past its range: how far out it still is after one step sets the
+  // margin. A margin just under that ends the episode, one just over does not, negative is off.
+  EnvConfig config = DeterministicConfig();
+  auto step_from_outside = [&](double margin) {
+    config.termination.joint_range_margin = margin;
+    Env env(SceneModel(), config, 13);
+    env.data().qpos[env.index().qpos[0]] = a1::JointMin(0) - 0.3;
+    env.SyncState();
+    const Termination t = env.Step(Filled(0.0f).data());
+    return std::pair{t, a1::JointMin(0) - env.state().joint_position[0]};
+  };
+  const auto [off, excess] = step_from_outside(-1.0);
+  EXPECT_EQ(off, Termination::kNone);
+  ASSERT_GT(excess, 0.01) << "the hip came back into range within one step";
+  EXPECT_EQ(step_from_outside(0.9 * excess).first, Termination::kJointRange);
+  EXPECT_EQ(step_from_outside(1.1 * excess).first, Termination::kNone);
+  EXPECT_TRUE(IsFailure(Termination::kJointRange));
+  EXPECT_STREQ(ToString(Termination::kJointRange), "joint_range");
 }
 
 TEST(EnvTermination, EpisodeStepsEndsWithTimeOutWhichIsNoFailure) {

@@ -7,6 +7,7 @@
 #include "robot/observation.h"
 #include "core/thread_pool.h"
 #include "sim/vec_env.h"
+#include "skills/learning/run_loop.h"
 #include "skills/learning/trainer.h"
 
 namespace flsd {
@@ -196,16 +197,17 @@ std::string SkillSummaryCsv(const Evaluation& e) {
   return out.str();
 }
 
-nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options) {
+nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration) {
   namespace fs = std::filesystem;
   const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
-  const TrainedPolicy trained = LoadTrainedPolicy(config, (fs::path(run_dir) / "checkpoint.pt").string());
+  const TrainedPolicy trained = LoadTrainedPolicy(config, RunCheckpoint(run_dir, iteration));
   const Evaluation eval = EvaluateSkills(config, trained.policy, trained.normalizer, options);
   nlohmann::json json = EvaluationJson(eval);
   json["run"] = run_dir;
   json["iteration"] = trained.iteration;
   json["env_steps"] = trained.env_steps;
-  const std::string suffix = options.randomize ? "_randomized" : "";
+  const std::string suffix =
+      (iteration > 0 ? "_" + std::to_string(iteration) : std::string()) + (options.randomize ? "_randomized" : "");
   WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + ".json")).string(), json.dump(2) + "\n");
   WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + "_skills.csv")).string(), SkillSummaryCsv(eval));
   return json;

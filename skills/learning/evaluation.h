@@ -27,8 +27,9 @@ nlohmann::json EvaluationJson(const Evaluation& evaluation);
 // One row per skill: survival, mean velocities, height, gait frequency, high-frequency ratio.
 std::string SkillSummaryCsv(const Evaluation& evaluation);
 
-// Loads a run folder's config and checkpoint, evaluates, writes eval.json and eval_skills.csv
-// into the run folder and returns the JSON.
-nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options);
+// Loads a run folder's config and checkpoint (the latest, or the one kept at `iteration`),
+// evaluates, writes eval.json and eval_skills.csv (eval_ITER.json... for a kept one) into the
+// run folder and returns the JSON.
+nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration = 0);
 
 }  // namespace flsd

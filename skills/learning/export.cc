@@ -7,6 +7,7 @@
 #include "core/check.h"
 #include "flsd_commit.h"
 #include "robot/observation.h"
+#include "skills/learning/run_loop.h"
 #include "skills/learning/task_trainer.h"
 #include "skills/learning/tracking_eval.h"
 #include "skills/runtime/safetensors.h"
@@ -128,10 +129,10 @@ void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const
   WriteSafeTensors(path, file);
 }
 
-nlohmann::json ExportRun(const std::string& run_dir, const std::string& path) {
+nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, int iteration) {
   namespace fs = std::filesystem;
   const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
-  const TrainedPolicy policy = LoadTrainedPolicy(config, (fs::path(run_dir) / "checkpoint.pt").string());
+  const TrainedPolicy policy = LoadTrainedPolicy(config, RunCheckpoint(run_dir, iteration));
   const Evaluation evaluation = EvaluateSkills(config, policy.policy, policy.normalizer, EvaluationOptions{});
   const ExportProvenance provenance{run_dir, ReadCommits((fs::path(run_dir) / "commits").string()), FLSD_GIT_COMMIT};
   WriteSkillLibrary(path, config, policy, evaluation, provenance);

@@ -31,8 +31,9 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
 void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const TrainedPolicy& policy,
                        const Evaluation& evaluation, const ExportProvenance& provenance);
 
-// Loads a run, evaluates it without randomisation, and writes its library to `path`.
-nlohmann::json ExportRun(const std::string& run_dir, const std::string& path);
+// Loads a run (its latest checkpoint, or the one kept at `iteration`), evaluates it without
+// randomisation, and writes its library to `path`.
+nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, int iteration = 0);
 
 // Adds a selector run's (flsd train-selector) selector to the library it was trained over and
 // writes the result to `path` (which may be that library itself). Refuses if the library changed

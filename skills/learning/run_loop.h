@@ -21,18 +21,29 @@ struct RunFolder {
 // The paths of run_dir; throws InputError if resuming finds no checkpoint, or starting finds one.
 RunFolder OpenRunFolder(const std::string& run_dir, bool resume);
 
+// run_dir/checkpoints/ITER.pt, where RunIterations keeps a copy of the checkpoint every
+// `keep_every` iterations.
+std::string KeptCheckpointPath(const std::string& run_dir, int iteration);
+// The checkpoint a command loads: the latest (iteration 0) or a kept one. Throws InputError
+// naming the iterations kept when there is none for `iteration`.
+std::string RunCheckpoint(const std::string& run_dir, int iteration);
+// Copies the checkpoint just saved to its kept place, atomically.
+void KeepCheckpoint(const RunFolder& folder, int iteration);
+
 // Creates the folder, writes the resolved config atomically, and appends the build's commit to
 // the commits file (each sitting of a run adds one line).
 void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, bool resume);
 
 // Runs trainer.RunIteration() until `iterations` or a stop request, appending `row(stats)` to
 // progress.csv and `line(stats, eta_seconds)` to the log, and checkpointing every
-// `checkpoint_every` iterations and at the end. Returns 0, or 3 when stats.finite turned false
+// `checkpoint_every` iterations and at the end, keeping a copy every `keep_every` iterations (0:
+// none). Returns 0, or 3 when stats.finite turned false
 // (the last good checkpoint is kept as it was). With several ranks in `comm`, every rank iterates
 // and only the leader writes; a stop requested on any rank stops them all after the same iteration.
 template <class Trainer, class Row, class Line>
 int RunIterations(Trainer& trainer, const Communicator& comm, const RunFolder& folder, const std::string& header,
-                  int iterations, int checkpoint_every, const std::atomic<bool>& stop_requested, Row row, Line line) {
+                  int iterations, int checkpoint_every, int keep_every, const std::atomic<bool>& stop_requested,
+                  Row row, Line line) {
   std::optional<ProgressLog> log;
   if (comm.leader()) log.emplace(folder.progress, header, trainer.iteration());
   double seconds_per_iteration = 0.0;
@@ -50,10 +61,12 @@ int RunIterations(Trainer& trainer, const Communicator& comm, const RunFolder& f
     seconds_per_iteration = seconds_per_iteration == 0.0 ? stats.seconds_total
                                                          : 0.9 * seconds_per_iteration + 0.1 * stats.seconds_total;
     spdlog::info("{}", line(stats, seconds_per_iteration * (iterations - stats.iteration)));
-    if (stats.iteration % checkpoint_every == 0) {
+    const bool keep = keep_every > 0 && stats.iteration % keep_every == 0;
+    if (stats.iteration % checkpoint_every == 0 || keep) {
       trainer.SaveCheckpoint(folder.checkpoint);
       saved_iteration = stats.iteration;
     }
+    if (keep) KeepCheckpoint(folder, stats.iteration);
   }
   if (!comm.leader()) return 0;
   if (saved_iteration != trainer.iteration()) trainer.SaveCheckpoint(folder.checkpoint);

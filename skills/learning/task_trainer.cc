@@ -348,6 +348,7 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
   if (!options.method.empty()) config.method = options.method;
   if (!options.library.empty()) config.library = options.library;
   if (options.iterations > 0) config.iterations = options.iterations;
+  if (options.threads > 0) config.num_threads = options.threads;
   ValidateTaskTrainConfig(config, folder.config_file);
   // A new selector runs its skills behind the target filter they were trained with.
   if (!options.resume && ParseTaskMethod(config.method) == TaskMethod::kSelector) {
@@ -355,6 +356,7 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
   }
   RecordRunStart(folder, ToYamlString(config), options.resume);
   ConfigureTorchThreads(config.num_threads);
+  WarnIfOversubscribed(config.num_threads);
 
   TaskTrainer trainer(config);
   if (options.resume) {
@@ -366,7 +368,8 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
                  config.steps_per_env, config.iterations);
   }
   return RunIterations(
-      trainer, Communicator::Self(), folder, kTaskProgressHeader, config.iterations, config.checkpoint_every, stop_requested,
+      trainer, Communicator::Self(), folder, kTaskProgressHeader, config.iterations, config.checkpoint_every, 0,
+      stop_requested,
       [](const TaskIterationStats& s) { return TaskProgressRow(s); },
       [&](const TaskIterationStats& s, double eta) { return TaskProgressLine(s, config.iterations, eta); });
 }

@@ -154,6 +154,7 @@ struct TaskRunOptions {
   std::string run_dir;
   bool resume = false;
   int iterations = 0;
+  int threads = 0;  // overrides the config's num_threads
 };
 // As RunTraining (training_run.h), for the velocity task.
 int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop_requested);

@@ -49,6 +49,9 @@ struct TrainConfig {
   double reward_scale = 0.02;
   double critic_position_scale = 0.25;  // the critic also sees q_xy, x this (1/m)
   int checkpoint_every = 25;            // iterations
+  // Iterations between checkpoints kept for good as checkpoints/ITER.pt (0: none). A run's skills
+  // can peak mid-run and be lost by the end (runs/flsd_replicate_s1 had 8 movers at 1250, 4 at 3009).
+  int keep_checkpoint_every = 250;
   RegularizationConfig regularization;
   EnvConfig env;
   PolicyConfig policy;
@@ -70,6 +73,7 @@ struct TrainConfig {
     v("reward_scale", reward_scale, Bounds<double>{1e-6, 1e6});
     v("critic_position_scale", critic_position_scale, Bounds<double>{0.0, 100.0});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
+    v("keep_checkpoint_every", keep_checkpoint_every, Bounds<int>{0, 100000000});
     v("regularization", regularization);
     v("env", env);
     v("policy", policy);

@@ -3,10 +3,12 @@
 #include <dlfcn.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/check.h"
@@ -23,6 +25,19 @@ void ConfigureTorchThreads(int threads) {
   torch::set_num_threads(ResolveThreadCount(threads));
 }
 
+void WarnIfOversubscribed(int threads) {
+  std::ifstream loadavg("/proc/loadavg");
+  double load = 0.0;
+  if (!(loadavg >> load)) return;
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  const int wanted = ResolveThreadCount(threads);
+  if (cores > 0 && load + wanted > cores + 0.5) {
+    spdlog::warn("{} threads on {} cores with a load of {:.1f} already: runs side by side should split the cores "
+                 "(--threads {})",
+                 wanted, cores, load, std::max(1, cores - static_cast<int>(load + 0.5)));
+  }
+}
+
 RunFolder OpenRunFolder(const std::string& run_dir, bool resume) {
   namespace fs = std::filesystem;
   RunFolder folder{run_dir, (fs::path(run_dir) / "config.yaml").string(), (fs::path(run_dir) / "checkpoint.pt").string(),
@@ -35,6 +50,42 @@ RunFolder OpenRunFolder(const std::string& run_dir, bool resume) {
                      "or choose another --out");
   }
   return folder;
+}
+
+std::string KeptCheckpointPath(const std::string& run_dir, int iteration) {
+  return (std::filesystem::path(run_dir) / "checkpoints" / (std::to_string(iteration) + ".pt")).string();
+}
+
+std::string RunCheckpoint(const std::string& run_dir, int iteration) {
+  namespace fs = std::filesystem;
+  if (iteration == 0) return (fs::path(run_dir) / "checkpoint.pt").string();
+  const std::string path = KeptCheckpointPath(run_dir, iteration);
+  if (fs::exists(path)) return path;
+  std::vector<int> kept;
+  const fs::path dir = fs::path(run_dir) / "checkpoints";
+  if (fs::is_directory(dir)) {
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string stem = entry.path().stem().string();
+      if (entry.path().extension() == ".pt" && !stem.empty() &&
+          stem.find_first_not_of("0123456789") == std::string::npos) {
+        kept.push_back(std::stoi(stem));
+      }
+    }
+  }
+  std::sort(kept.begin(), kept.end());
+  std::string list;
+  for (int k : kept) list += (list.empty() ? "" : ", ") + std::to_string(k);
+  throw InputError(run_dir + " kept no checkpoint of iteration " + std::to_string(iteration) + " (" +
+                   (kept.empty() ? std::string("it kept none") : "kept: " + list) + ")");
+}
+
+void KeepCheckpoint(const RunFolder& folder, int iteration) {
+  namespace fs = std::filesystem;
+  const std::string path = KeptCheckpointPath(folder.dir, iteration);
+  fs::create_directories(fs::path(path).parent_path());
+  WriteFileAtomically(path, [&](const std::string& temp_path) {
+    fs::copy_file(folder.checkpoint, temp_path, fs::copy_options::overwrite_existing);
+  });
 }
 
 void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, bool resume) {
@@ -71,6 +122,7 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
     spdlog::set_level(spdlog::level::warn);  // the leader speaks for the job
   }
   ConfigureTorchThreads(config.num_threads);
+  if (comm.size() == 1) WarnIfOversubscribed(config.num_threads);
 
   Trainer trainer(config, comm);
   if (comm.size() > 1) {
@@ -86,7 +138,8 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
                  config.iterations);
   }
   return RunIterations(
-      trainer, comm, folder, kSkillProgressHeader, config.iterations, config.checkpoint_every, stop_requested,
+      trainer, comm, folder, kSkillProgressHeader, config.iterations, config.checkpoint_every,
+      config.keep_checkpoint_every, stop_requested,
       [](const IterationStats& s) { return ProgressRow(s); },
       [&](const IterationStats& s, double eta) { return ProgressLine(s, config.iterations, config.num_skills, eta); });
 }

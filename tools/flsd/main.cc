@@ -71,8 +71,11 @@ int main(int argc, char** argv) {
   task_cmd->add_flag("--resume", task.resume, "Continue the run in --out from its checkpoint");
   task_cmd->add_option("--iterations", task.iterations, "Train until this many iterations in total")
       ->check(CLI::Range(1, 100000000));
+  task_cmd->add_option("--threads", task.threads, "Simulation threads (default: the config's)")->check(CLI::Range(1, 1024));
 
   std::string run_dir, library_path;
+  int kept_iteration = 0;
+  const char* kept_help = "Load the checkpoint the run kept at this iteration (checkpoints/ITER.pt; default: the latest)";
   flsd::EvaluationOptions eval;
   bool eval_json = false;
   CLI::App* eval_cmd = app.add_subcommand("eval", "Roll out every skill and compute the paper's metrics");
@@ -80,10 +83,12 @@ int main(int argc, char** argv) {
   eval_cmd->add_flag("--randomize", eval.randomize, "Keep the training randomisation on");
   eval_cmd->add_option("--steps", eval.steps, "Steps per skill (default: the episode length)")->check(CLI::Range(1, 1000000));
   eval_cmd->add_flag("--json", eval_json, "Print the whole JSON (default: a summary)");
+  eval_cmd->add_option("--iteration", kept_iteration, kept_help)->check(CLI::Range(1, 100000000));
 
   CLI::App* export_cmd = app.add_subcommand("export", "Write a run's skill library (safetensors)");
   export_cmd->add_option("run", run_dir, "Run folder")->required();
   export_cmd->add_option("-o,--output", library_path, "Library file to write")->required();
+  export_cmd->add_option("--iteration", kept_iteration, kept_help)->check(CLI::Range(1, 100000000));
 
   CLI::App* export_selector_cmd =
       app.add_subcommand("export-selector", "Add a selector run's skill selector to its skill library");
@@ -187,7 +192,7 @@ int main(int argc, char** argv) {
     if (*render_cmd) return flsd::RunRender(render);
     if (*eval_cmd) {
       flsd::ConfigureTorchThreads(0);
-      const nlohmann::json result = flsd::EvaluateRun(run_dir, eval);
+      const nlohmann::json result = flsd::EvaluateRun(run_dir, eval, kept_iteration);
       if (eval_json) {
         std::printf("%s\n", result.dump(2).c_str());
       } else {
@@ -202,7 +207,7 @@ int main(int argc, char** argv) {
     }
     if (*export_cmd) {
       flsd::ConfigureTorchThreads(0);
-      std::printf("%s\n", flsd::ExportRun(run_dir, library_path).dump(2).c_str());
+      std::printf("%s\n", flsd::ExportRun(run_dir, library_path, kept_iteration).dump(2).c_str());
       return 0;
     }
     if (*export_selector_cmd) {

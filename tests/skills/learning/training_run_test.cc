@@ -22,6 +22,7 @@
 #include "robot/observation.h"
 #include "skills/learning/evaluation.h"
 #include "skills/learning/export.h"
+#include "skills/learning/run_loop.h"
 #include "skills/learning/trainer.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
@@ -375,6 +376,28 @@ TEST_F(TrainingRun, EvaluationRecordsOneEpisodePerSkill) {
     EXPECT_LT(task.total, task.tracking_lin_vel + task.tracking_ang_vel) << "skill " << t.skill;
   }
   EXPECT_GT(checked, 0) << "no skill stood for 40 steps: nothing was checked";
+}
+
+TEST_F(TrainingRun, KeepsACheckpointEveryKeepIterationsThatEvalAndExportCanLoad) {
+  const std::atomic<bool> stop{false};
+  TrainingRunOptions options;
+  options.config_path = ResolveDataPath("configs/smoke.yaml");  // keep_checkpoint_every: 3
+  options.run_dir = dir_;
+  options.iterations = 7;
+  ASSERT_EQ(RunTraining(options, stop), 0);
+  EXPECT_TRUE(fs::exists(KeptCheckpointPath(dir_, 3)));
+  EXPECT_TRUE(fs::exists(KeptCheckpointPath(dir_, 6)));
+  EXPECT_EQ(std::distance(fs::directory_iterator(Path("checkpoints")), fs::directory_iterator{}), 2);
+
+  const nlohmann::json eval = EvaluateRun(dir_, EvaluationOptions{}, 3);
+  EXPECT_EQ(eval["iteration"], 3);
+  EXPECT_TRUE(fs::exists(Path("eval_3.json")));
+  EXPECT_TRUE(fs::exists(Path("eval_3_skills.csv")));
+  EXPECT_FALSE(fs::exists(Path("eval.json"))) << "the latest checkpoint's evaluation was overwritten";
+  EXPECT_EQ(ExportRun(dir_, Path("kept.safetensors"), 6)["iteration"], 6);
+  EXPECT_EQ(ExportRun(dir_, Path("latest.safetensors"))["iteration"], 7);
+  EXPECT_THAT(InputErrorMessage([&] { RunCheckpoint(dir_, 4); }),
+              HasSubstr("kept no checkpoint of iteration 4 (kept: 3, 6)"));
 }
 
 TEST_F(TrainingRun, EvaluatesAndExportsARun) {

@@ -6,7 +6,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+
+#include "sim/env.h"
 
 namespace flsd {
 namespace {
@@ -166,6 +169,39 @@ TEST(DescribeFaults, TruncatesSafelyIntoASmallBuffer) {
   char text[12];
   DescribeFaults(kFaultTilt | kFaultStop | kFaultBackend, Rolled(2.0), SafetyConfig{}, text, sizeof text);
   EXPECT_EQ(std::string(text).size(), sizeof text - 1);
+}
+
+// A simulated episode under TerminationOf ends where the supervisor trips on the same state: a hip
+// 0.3 rad out of range, a base below the height limit; a standing robot goes on under both.
+TEST(TerminationOf, EndsAnEpisodeWhereTheSupervisorTrips) {
+  const SafetyConfig safety;
+  EnvConfig config;
+  config.randomization.DisableAll();
+  config.reset.joint_pos_scale = {1.0, 1.0};
+  config.reset.base_velocity = 0.0;
+  config.termination = TerminationOf(safety);
+  const MjModelPtr model = LoadMjModel(config.model);
+  const std::array<float, a1::kNumJoints> zero{};
+
+  Env standing(*model, config, 1);
+  SafetySupervisor supervisor(safety);
+  for (int t = 0; t < 50; ++t) {
+    ASSERT_EQ(standing.Step(zero.data()), Termination::kNone) << "step " << t;
+    ASSERT_EQ(supervisor.Check(standing.state(), a1::kControlDt), 0u) << "step " << t;
+  }
+
+  Env out_of_range(*model, config, 1);
+  out_of_range.data().qpos[out_of_range.index().qpos[0]] = a1::JointMin(0) - 0.3;
+  out_of_range.SyncState();
+  EXPECT_EQ(out_of_range.Step(zero.data()), Termination::kJointRange);
+  EXPECT_TRUE(SafetySupervisor(safety).Check(out_of_range.state(), a1::kControlDt) & kFaultJointRange);
+
+  SafetyConfig tall = safety;
+  tall.min_base_height = 0.5;  // above the standing robot
+  config.termination = TerminationOf(tall);
+  Env low(*model, config, 1);
+  EXPECT_EQ(low.Step(zero.data()), Termination::kLowBase);
+  EXPECT_TRUE(SafetySupervisor(tall).Check(low.state(), a1::kControlDt) & kFaultLowBase);
 }
 
 }  // namespace

@@ -1,0 +1,27 @@
+#pragma once
+// Which skills of a library a test runs: tests of the shipped library must not name skill ids,
+// which change with every library shipped.
+
+#include <algorithm>
+#include <vector>
+
+#include "skills/runtime/skill_library.h"
+
+namespace flsd::testutil {
+
+// The ids of the library's `n` fastest skills (planar speed) that did not fall in its evaluation,
+// fastest first; fewer when the library has fewer.
+inline std::vector<int> FastestSurvivingSkills(const SkillLibrary& library, int n) {
+  std::vector<const SkillDescriptor*> skills;
+  for (const SkillDescriptor& d : library.skills()) {
+    if (!d.fell) skills.push_back(&d);
+  }
+  std::sort(skills.begin(), skills.end(), [](const SkillDescriptor* a, const SkillDescriptor* b) {
+    return a->mean_linear_velocity.head<2>().norm() > b->mean_linear_velocity.head<2>().norm();
+  });
+  std::vector<int> ids;
+  for (int k = 0; k < n && k < static_cast<int>(skills.size()); ++k) ids.push_back(skills[k]->id);
+  return ids;
+}
+
+}  // namespace flsd::testutil

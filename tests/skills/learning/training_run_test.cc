@@ -21,6 +21,7 @@
 #include "robot/a1.h"
 #include "robot/observation.h"
 #include "skills/learning/evaluation.h"
+#include "server/safety.h"
 #include "skills/learning/export.h"
 #include "skills/learning/run_loop.h"
 #include "skills/learning/trainer.h"
@@ -376,6 +377,28 @@ TEST_F(TrainingRun, EvaluationRecordsOneEpisodePerSkill) {
     EXPECT_LT(task.total, task.tracking_lin_vel + task.tracking_ang_vel) << "skill " << t.skill;
   }
   EXPECT_GT(checked, 0) << "no skill stood for 40 steps: nothing was checked";
+}
+
+TEST(TrainingConfigs, EveryShippedSkillConfigLoads) {
+  int loaded = 0;
+  for (const auto& entry : fs::directory_iterator(ResolveDataPath("configs"))) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("flsd_", 0) != 0 || entry.path().extension() != ".yaml") continue;
+    EXPECT_NO_THROW(LoadTrainConfig(entry.path().string())) << name;
+    ++loaded;
+  }
+  EXPECT_GE(loaded, 4);
+}
+
+TEST(TrainingConfigs, TheServedConfigEndsEpisodesByTheSupervisorsDefaults) {
+  const TerminationConfig served = LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_served.yaml")).env.termination;
+  const TerminationConfig supervisor = TerminationOf(SafetyConfig{});
+  EXPECT_EQ(served.max_tilt, supervisor.max_tilt);
+  EXPECT_EQ(served.min_base_height, supervisor.min_base_height);
+  EXPECT_EQ(served.max_joint_speed, supervisor.max_joint_speed);
+  EXPECT_EQ(served.max_joint_speed_time, supervisor.max_joint_speed_time);
+  EXPECT_EQ(served.joint_range_margin, supervisor.joint_range_margin);
+  EXPECT_EQ(served.on_calf_contact, supervisor.on_calf_contact);
 }
 
 TEST_F(TrainingRun, KeepsACheckpointEveryKeepIterationsThatEvalAndExportCanLoad) {

@@ -23,6 +23,7 @@
 #include "skills/learning/evaluation.h"
 #include "server/safety.h"
 #include "skills/learning/export.h"
+#include "skills/learning/task_trainer.h"
 #include "skills/learning/run_loop.h"
 #include "skills/learning/trainer.h"
 #include "skills/runtime/safetensors.h"
@@ -390,15 +391,18 @@ TEST(TrainingConfigs, EveryShippedSkillConfigLoads) {
   EXPECT_GE(loaded, 4);
 }
 
-TEST(TrainingConfigs, TheServedConfigEndsEpisodesByTheSupervisorsDefaults) {
-  const TerminationConfig served = LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_served.yaml")).env.termination;
+TEST(TrainingConfigs, TheServedConfigsEndEpisodesByTheSupervisorsDefaults) {
   const TerminationConfig supervisor = TerminationOf(SafetyConfig{});
-  EXPECT_EQ(served.max_tilt, supervisor.max_tilt);
-  EXPECT_EQ(served.min_base_height, supervisor.min_base_height);
-  EXPECT_EQ(served.max_joint_speed, supervisor.max_joint_speed);
-  EXPECT_EQ(served.max_joint_speed_time, supervisor.max_joint_speed_time);
-  EXPECT_EQ(served.joint_range_margin, supervisor.joint_range_margin);
-  EXPECT_EQ(served.on_calf_contact, supervisor.on_calf_contact);
+  for (const TerminationConfig& served :
+       {LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_served.yaml")).env.termination,
+        LoadTaskTrainConfig(ResolveDataPath("configs/selector_tracking_served.yaml")).env.termination}) {
+    EXPECT_EQ(served.max_tilt, supervisor.max_tilt);
+    EXPECT_EQ(served.min_base_height, supervisor.min_base_height);
+    EXPECT_EQ(served.max_joint_speed, supervisor.max_joint_speed);
+    EXPECT_EQ(served.max_joint_speed_time, supervisor.max_joint_speed_time);
+    EXPECT_EQ(served.joint_range_margin, supervisor.joint_range_margin);
+    EXPECT_EQ(served.on_calf_contact, supervisor.on_calf_contact);
+  }
 }
 
 TEST_F(TrainingRun, KeepsACheckpointEveryKeepIterationsThatEvalAndExportCanLoad) {

@@ -31,7 +31,7 @@ void WarnIfOversubscribed(int threads) {
   if (!(loadavg >> load)) return;
   const int cores = static_cast<int>(std::thread::hardware_concurrency());
   const int wanted = ResolveThreadCount(threads);
-  if (cores > 0 && load + wanted > cores + 0.5) {
+  if (wanted > 1 && cores > 0 && load + wanted > cores + 0.5) {  // one thread has nothing to give up
     spdlog::warn("{} threads on {} cores with a load of {:.1f} already: runs side by side should split the cores "
                  "(--threads {})",
                  wanted, cores, load, std::max(1, cores - static_cast<int>(load + 0.5)));

@@ -25,8 +25,8 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
 // top of it oversubscribes the cores (measured: a 4096-sample MLP update 15x slower).
 void ConfigureTorchThreads(int threads);
 
-// Logs a warning when `threads` more busy threads than the machine has cores would run, counting
-// the 1-minute load average as busy: two training processes of 2 threads each on 2 cores were
+// Logs a warning when `threads` (more than one) and the 1-minute load average together exceed the
+// machine's cores: two training processes of 2 threads each on 2 cores were
 // measured 6x slower per iteration than one alone, as libtorch's threads wait on each other.
 void WarnIfOversubscribed(int threads);
 

@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
   flsd::ReportOptions report;
   CLI::App* report_cmd =
       app.add_subcommand("report", "Compare skill runs as the paper does: an HTML page with tables and figures");
-  report_cmd->add_option("runs", report.runs, "Run folders (flsd train)")->required();
+  report_cmd->add_option("runs", report.runs, "Run folders (flsd train); RUN@ITER for a checkpoint a run kept")->required();
   report_cmd->add_option("-o,--output", report.output, "Folder to write index.html, report.json and figures")->required();
   report_cmd->add_option("--steps", report.steps, "Steps per skill (default: the episode length)")
       ->check(CLI::Range(1, 1000000));

@@ -9,6 +9,7 @@
 #include "flsd_commit.h"
 #include "report/skill_report.h"
 #include "skills/learning/evaluation.h"
+#include "skills/learning/run_loop.h"
 #include "skills/learning/trainer.h"
 
 namespace flsd {
@@ -16,12 +17,24 @@ namespace {
 
 namespace fs = std::filesystem;
 
-ReportRun EvaluateForReport(const std::string& run_dir, int steps) {
+// `spec` is a run folder, or FOLDER@ITER for the checkpoint it kept at iteration ITER.
+ReportRun EvaluateForReport(const std::string& spec, int steps) {
+  const std::size_t at = spec.rfind('@');
+  int iteration = 0;
+  if (at != std::string::npos) {
+    const std::string number = spec.substr(at + 1);
+    if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos || number.size() > 9) {
+      throw InputError("report: '" + spec + "': expected RUN or RUN@ITERATION, with a whole number after '@'");
+    }
+    iteration = std::stoi(number);
+  }
+  const std::string run_dir = spec.substr(0, at);
   const fs::path dir = fs::path(run_dir).lexically_normal();
   const TrainConfig config = LoadTrainConfig((dir / "config.yaml").string());
-  const TrainedPolicy trained = LoadTrainedPolicy(config, (dir / "checkpoint.pt").string());
+  const TrainedPolicy trained = LoadTrainedPolicy(config, RunCheckpoint(run_dir, iteration));
   ReportRun run;
   run.label = (dir.has_filename() ? dir.filename() : dir.parent_path().filename()).string();
+  if (iteration > 0) run.label += "_" + std::to_string(iteration);
   run.method = config.method;
   run.seed = config.seed;
   run.iteration = trained.iteration;

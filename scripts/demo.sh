@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # make demo: skilld with the simulated A1 and the shipped skill library, driven by skillctl the way
-# a user would: list the skills, stand, run the four fastest ones (each from standing), track a
+# a user would: list the skills, stand, run the four fastest ones (each from rest), track a
 # velocity with the skill selector, navigate around the obstacles of configs/maps/demo.yaml
 # (writing a picture of the planned and the walked path to $PICTURE), then stop the server cleanly.
 # Everything stays on this machine (Cyclone on loopback, a partition of its own).
@@ -29,12 +29,16 @@ fastest=$(awk 'NR > 1 { printf "%s %f\n", $1, sqrt($2*$2 + $3*$3) + 0.3*($4 < 0 
 rm -f /tmp/flsd_demo_skills.$$
 status=0
 for k in $fastest; do
-  # Each skill from a standing start, as the library's evaluation ran it: no skill was trained to
-  # take over from another one in full stride, and one that tries can tip the robot.
+  # Each skill from a standing start at rest, as the library's evaluation ran it. The simulated
+  # robot is reset first: a skill that turns fast can leave the robot tipping as the stand takes
+  # over (README, "The skill selector"), and no skill was trained to take over mid-stride.
+  "${ctl[@]}" reset >/dev/null
   "${ctl[@]}" stand >/dev/null
   echo "== skill $k for 4 s"
   "${ctl[@]}" --quiet skill "$k" --duration 4 || status=$?
 done
+"${ctl[@]}" reset >/dev/null
+"${ctl[@]}" stand >/dev/null
 echo "== track 0.4 m/s forward for 4 s (the selector chooses the skills)"
 "${ctl[@]}" --quiet vel 0.4 0 0 --duration 4 || status=$?
 "${ctl[@]}" stand >/dev/null

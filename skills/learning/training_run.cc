@@ -66,7 +66,7 @@ std::string RunCheckpoint(const std::string& run_dir, int iteration) {
   if (fs::is_directory(dir)) {
     for (const auto& entry : fs::directory_iterator(dir)) {
       const std::string stem = entry.path().stem().string();
-      if (entry.path().extension() == ".pt" && !stem.empty() &&
+      if (entry.path().extension() == ".pt" && !stem.empty() && stem.size() <= 9 &&
           stem.find_first_not_of("0123456789") == std::string::npos) {
         kept.push_back(std::stoi(stem));
       }

@@ -13,17 +13,14 @@ namespace flsd {
 
 class JointLimitTimer {
  public:
-  // Adds dt to each joint j for which breaking(j) holds and clears the others. Returns the
-  // longest time any joint has now held it, s.
+  // Adds dt to each joint j for which breaking(j) holds and clears the others. Returns Longest().
   template <class Breaking>
   double Update(Breaking breaking, double dt) {
-    double longest = 0.0;
-    for (int j = 0; j < a1::kNumJoints; ++j) {
-      seconds_[j] = breaking(j) ? seconds_[j] + dt : 0.0;
-      longest = std::max(longest, seconds_[j]);
-    }
-    return longest;
+    for (int j = 0; j < a1::kNumJoints; ++j) seconds_[j] = breaking(j) ? seconds_[j] + dt : 0.0;
+    return Longest();
   }
+  // The longest time any joint has now held it, s.
+  double Longest() const { return *std::max_element(seconds_.begin(), seconds_.end()); }
   void Reset() { seconds_.fill(0.0); }
 
  private:

@@ -72,7 +72,6 @@ void Env::Reset() {
   history_head_ = 0;
   episode_step_ = 0;
   overspeed_.Reset();
-  longest_overspeed_ = 0.0;
   SyncState();
   target_filter_.Reset(state_.joint_position);
 }
@@ -168,8 +167,8 @@ Termination Env::Advance(const JointCommand& command, int substeps) {
   }
   ReadState();
   if (config_.termination.max_joint_speed > 0.0) {
-    longest_overspeed_ = overspeed_.Update(FasterThan(state_.joint_velocity, config_.termination.max_joint_speed),
-                                           substeps * model_->opt.timestep);
+    overspeed_.Update(FasterThan(state_.joint_velocity, config_.termination.max_joint_speed),
+                      substeps * model_->opt.timestep);
   }
   return CheckTermination();
 }
@@ -239,7 +238,7 @@ Termination Env::CheckTermination() const {
   if (body_contact_ || (c.on_calf_contact && calf_contact_)) return Termination::kBodyContact;
   if (state_.ProjectedGravity().z() > -std::cos(c.max_tilt)) return Termination::kTilt;
   if (state_.base_position.z() < c.min_base_height) return Termination::kLowBase;
-  if (c.max_joint_speed > 0.0 && Outlasts(longest_overspeed_, c.max_joint_speed_time)) return Termination::kJointSpeed;
+  if (c.max_joint_speed > 0.0 && Outlasts(overspeed_.Longest(), c.max_joint_speed_time)) return Termination::kJointSpeed;
   if (c.joint_range_margin >= 0.0) {
     for (int j = 0; j < a1::kNumJoints; ++j) {
       if (!a1::WithinRange(j, state_.joint_position[j], c.joint_range_margin)) return Termination::kJointRange;

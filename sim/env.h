@@ -112,7 +112,6 @@ class Env {
   bool body_contact_ = false;
   bool calf_contact_ = false;
   JointLimitTimer overspeed_;
-  double longest_overspeed_ = 0.0;  // s, now
 };
 
 }  // namespace flsd

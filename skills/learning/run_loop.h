@@ -21,6 +21,8 @@ struct RunFolder {
 // The paths of run_dir; throws InputError if resuming finds no checkpoint, or starting finds one.
 RunFolder OpenRunFolder(const std::string& run_dir, bool resume);
 
+// `text` as an iteration number (1 to 9 digits, nothing else), or nothing.
+std::optional<int> ParseIteration(const std::string& text);
 // run_dir/checkpoints/ITER.pt, where RunIterations keeps a copy of the checkpoint every
 // `keep_every` iterations.
 std::string KeptCheckpointPath(const std::string& run_dir, int iteration);

@@ -52,6 +52,11 @@ RunFolder OpenRunFolder(const std::string& run_dir, bool resume) {
   return folder;
 }
 
+std::optional<int> ParseIteration(const std::string& text) {
+  if (text.empty() || text.size() > 9 || text.find_first_not_of("0123456789") != std::string::npos) return {};
+  return std::stoi(text);
+}
+
 std::string KeptCheckpointPath(const std::string& run_dir, int iteration) {
   return (std::filesystem::path(run_dir) / "checkpoints" / (std::to_string(iteration) + ".pt")).string();
 }
@@ -65,11 +70,8 @@ std::string RunCheckpoint(const std::string& run_dir, int iteration) {
   const fs::path dir = fs::path(run_dir) / "checkpoints";
   if (fs::is_directory(dir)) {
     for (const auto& entry : fs::directory_iterator(dir)) {
-      const std::string stem = entry.path().stem().string();
-      if (entry.path().extension() == ".pt" && !stem.empty() && stem.size() <= 9 &&
-          stem.find_first_not_of("0123456789") == std::string::npos) {
-        kept.push_back(std::stoi(stem));
-      }
+      const std::optional<int> kept_iteration = ParseIteration(entry.path().stem().string());
+      if (entry.path().extension() == ".pt" && kept_iteration) kept.push_back(*kept_iteration);
     }
   }
   std::sort(kept.begin(), kept.end());

@@ -22,6 +22,7 @@ TEST(JointLimitTimer, TimesEachJointsUnbrokenStretchAndClearsItWhenTheJointComes
   qd[7] = std::numeric_limits<double>::quiet_NaN();  // an unreadable speed counts as too fast
   EXPECT_DOUBLE_EQ(timer.Update(fast, 0.02), 0.02);
   timer.Reset();
+  EXPECT_DOUBLE_EQ(timer.Longest(), 0.0);
   qd[7] = 0.0;
   EXPECT_DOUBLE_EQ(timer.Update(fast, 0.02), 0.0);
 }

@@ -22,11 +22,9 @@ ReportRun EvaluateForReport(const std::string& spec, int steps) {
   const std::size_t at = spec.rfind('@');
   int iteration = 0;
   if (at != std::string::npos) {
-    const std::string number = spec.substr(at + 1);
-    if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos || number.size() > 9) {
-      throw InputError("report: '" + spec + "': expected RUN or RUN@ITERATION, with a whole number after '@'");
-    }
-    iteration = std::stoi(number);
+    const std::optional<int> parsed = ParseIteration(spec.substr(at + 1));
+    if (!parsed) throw InputError("report: '" + spec + "': expected RUN or RUN@ITERATION, with a whole number after '@'");
+    iteration = *parsed;
   }
   const std::string run_dir = spec.substr(0, at);
   const fs::path dir = fs::path(run_dir).lexically_normal();

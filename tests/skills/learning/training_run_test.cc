@@ -380,6 +380,15 @@ TEST_F(TrainingRun, EvaluationRecordsOneEpisodePerSkill) {
   EXPECT_GT(checked, 0) << "no skill stood for 40 steps: nothing was checked";
 }
 
+TEST(ParseIteration, TakesOneToNineDigitsAndNothingElse) {
+  EXPECT_EQ(ParseIteration("4125"), 4125);
+  EXPECT_EQ(ParseIteration("999999999"), 999999999);
+  EXPECT_EQ(ParseIteration(""), std::nullopt);
+  EXPECT_EQ(ParseIteration("1000000000"), std::nullopt);  // past int's range in time
+  EXPECT_EQ(ParseIteration("12x"), std::nullopt);
+  EXPECT_EQ(ParseIteration("-5"), std::nullopt);
+}
+
 TEST(TrainingConfigs, EveryShippedSkillConfigLoads) {
   int loaded = 0;
   for (const auto& entry : fs::directory_iterator(ResolveDataPath("configs"))) {

@@ -98,6 +98,7 @@ class SkillRollout {
     config.randomization.DisableAll();
     config.episode_steps = steps + 1;
     config.action_filter_hz = library.action_filter_hz();
+    config.action_filter_order = library.action_filter_order();
     return config;
   }
 

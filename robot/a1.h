@@ -29,6 +29,10 @@ inline constexpr std::array<double, kJointsPerLeg> kLegJointMin = {-0.802851, -1
 inline constexpr std::array<double, kJointsPerLeg> kLegJointMax = {0.802851, 4.18879, -0.916298};
 inline constexpr double kTorqueLimit = 33.5;          // N m, every joint
 inline constexpr double kJointVelocityLimit = 21.0;  // rad/s, every joint
+// rad/s up to which a motor gives its full torque (robot_state.h, DrivingTorqueLimit). Unitree's
+// own actuator model for its Go2 motors is flat to 45 % of the no-load speed (13.5 of 30 rad/s),
+// then falls linearly; the A1's motors are taken to share that shape.
+inline constexpr double kTorqueSpeedKnee = 0.45 * kJointVelocityLimit;
 // s a joint may stay past kJointVelocityLimit before skilld's supervisor stops it (by default).
 // The motors cannot drive a joint past their no-load speed; a foot strike can, for a tick.
 inline constexpr double kJointOverspeedTolerance = 0.04;

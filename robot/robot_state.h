@@ -49,13 +49,16 @@ struct JointCommand {
   }
 };
 
-// The most torque a motor turning at qd can give in qd's direction. A voltage-limited motor's back
-// EMF takes its torque away linearly with speed: this is that first-order line, from
-// a1::kTorqueLimit at rest to nothing at a1::kJointVelocityLimit, the URDF's 21 rad/s taken as
-// the no-load speed. Torque against the motion (braking) keeps the full limit.
-inline double DrivingTorqueLimit(double qd) {
+// The most torque a motor turning at qd can give in qd's direction. A current-limited motor gives
+// its full torque up to a knee speed; past it, back EMF against the supply voltage takes the
+// torque away linearly, to nothing at a1::kJointVelocityLimit (the URDF's 21 rad/s, taken as the
+// no-load speed). `knee` 0 is a line from rest. Torque against the motion (braking) keeps the
+// full limit.
+inline double DrivingTorqueLimit(double qd, double knee = 0.0) {
   const double speed = qd < 0.0 ? -qd : qd;
-  return speed >= a1::kJointVelocityLimit ? 0.0 : a1::kTorqueLimit * (1.0 - speed / a1::kJointVelocityLimit);
+  if (speed <= knee) return a1::kTorqueLimit;
+  if (speed >= a1::kJointVelocityLimit) return 0.0;
+  return a1::kTorqueLimit * (a1::kJointVelocityLimit - speed) / (a1::kJointVelocityLimit - knee);
 }
 
 // The motor PD law for one joint, as the sim applies it at every physics step. `strength`
@@ -63,11 +66,12 @@ inline double DrivingTorqueLimit(double qd) {
 // `torque_speed_limit` is set, to DrivingTorqueLimit in the direction of motion, so the joint
 // cannot drive itself past the motor's speed.
 inline double MotorTorque(double kp, double kd, double q_target, double qd_target, double q,
-                          double qd, double tau_ff, double strength = 1.0, bool torque_speed_limit = false) {
+                          double qd, double tau_ff, double strength = 1.0, bool torque_speed_limit = false,
+                          double torque_speed_knee = 0.0) {
   const double tau = strength * (kp * (q_target - q) + kd * (qd_target - qd) + tau_ff);
   double lo = -a1::kTorqueLimit, hi = a1::kTorqueLimit;
-  if (torque_speed_limit && qd > 0.0) hi = DrivingTorqueLimit(qd);
-  if (torque_speed_limit && qd < 0.0) lo = -DrivingTorqueLimit(qd);
+  if (torque_speed_limit && qd > 0.0) hi = DrivingTorqueLimit(qd, torque_speed_knee);
+  if (torque_speed_limit && qd < 0.0) lo = -DrivingTorqueLimit(qd, torque_speed_knee);
   return tau > hi ? hi : (tau < lo ? lo : tau);
 }
 

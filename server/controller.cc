@@ -18,7 +18,7 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       supervisor_(config.safety),
       runner_(library),
       hierarchy_(library.selector() ? std::optional<HierarchicalPolicy>(std::in_place, library) : std::nullopt),
-      target_filter_(library.action_filter_hz()),
+      target_filter_(library.action_filter_hz(), library.action_filter_order()),
       policy_obs_(PolicyObservationSize(library.num_skills())) {
   state_ = backend_.Read();
   Publish();

@@ -44,7 +44,7 @@ Env::Env(const mjModel& model, const EnvConfig& config, uint64_t seed)
       index_(A1ModelIndex::Find(*model_)),
       config_(config),
       rng_(seed),
-      target_filter_(config.action_filter_hz) {
+      target_filter_(config.action_filter_hz, config.action_filter_order) {
   FLSD_DEMAND(data_ != nullptr);
   if (std::abs(model_->opt.timestep - a1::kPhysicsDt) > 1e-12) {
     throw InputError(config.model + ": option timestep is " + std::to_string(model_->opt.timestep) +
@@ -111,8 +111,11 @@ void Env::ApplyRandomization() {
 void Env::PlaceInitialState() {
   mjData& d = *data_;
   const ResetConfig& c = config_.reset;
+  // Drawn only when asked for, so that configs without standing starts keep their random streams.
+  const bool standing = c.standing_fraction > 0.0 && Uniform(rng_, 0.0, 1.0) < c.standing_fraction;
   for (int j = 0; j < a1::kNumJoints; ++j) {
-    const double q = a1::kDefaultJointPos[j] * Uniform(rng_, c.joint_pos_scale.lo, c.joint_pos_scale.hi);
+    const double scale = standing ? 1.0 : Uniform(rng_, c.joint_pos_scale.lo, c.joint_pos_scale.hi);
+    const double q = a1::kDefaultJointPos[j] * scale;
     d.qpos[index_.qpos[j]] = std::clamp(q, a1::JointMin(j), a1::JointMax(j));
   }
   mjtNum* root = d.qpos + index_.root_qpos;
@@ -125,7 +128,7 @@ void Env::PlaceInitialState() {
   for (int g : index_.foot_geom) lowest = std::min(lowest, d.geom_xpos[3 * g + 2] - model_->geom_size[3 * g]);
   root[2] = -lowest + c.foot_clearance;
   for (int k = 0; k < 6; ++k) {
-    d.qvel[index_.root_qvel + k] = Uniform(rng_, -c.base_velocity, c.base_velocity);
+    d.qvel[index_.root_qvel + k] = standing ? 0.0 : Uniform(rng_, -c.base_velocity, c.base_velocity);
   }
 }
 
@@ -149,7 +152,8 @@ Termination Env::Advance(const JointCommand& command, int substeps) {
       d.ctrl[index_.actuator[j]] =
           MotorTorque(command.kp[j], command.kd[j], command.position[j], command.velocity[j],
                       d.qpos[index_.qpos[j]], d.qvel[index_.qvel[j]], command.torque[j],
-                      randomization_.motor_strength[j], config_.torque_speed_limit);
+                      randomization_.motor_strength[j], config_.torque_speed_limit,
+                      config_.torque_speed_knee);
     }
     mj_step(model_.get(), data_.get());
     // MuJoCo resets the data itself after a non-finite or huge position, velocity or
@@ -178,12 +182,25 @@ double Env::StanceFootSpeed() const {
   int feet = 0;
   for (int leg = 0; leg < a1::kNumLegs; ++leg) {
     if (!state_.foot_contact[leg]) continue;
-    mjtNum velocity[6];  // angular, then linear, in the world frame
-    mj_objectVelocity(model_.get(), data_.get(), mjOBJ_GEOM, index_.foot_geom[leg], velocity, 0);
-    sum += std::hypot(velocity[3], velocity[4]);
+    sum += FootSpeed(leg);
     ++feet;
   }
   return feet > 0 ? sum / feet : 0.0;
+}
+
+double Env::FastestStanceFoot(double min_force) const {
+  double fastest = 0.0;
+  for (int leg = 0; leg < a1::kNumLegs; ++leg) {
+    if (!state_.foot_contact[leg] || state_.foot_force[leg] <= min_force) continue;
+    fastest = std::max(fastest, FootSpeed(leg));
+  }
+  return fastest;
+}
+
+double Env::FootSpeed(int leg) const {
+  mjtNum velocity[6];  // angular, then linear, in the world frame
+  mj_objectVelocity(model_.get(), data_.get(), mjOBJ_GEOM, index_.foot_geom[leg], velocity, 0);
+  return std::hypot(velocity[3], velocity[4]);
 }
 
 void Env::SyncState() {

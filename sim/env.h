@@ -72,6 +72,9 @@ class Env {
   // when none is: how much the stance feet slide. A sim-only measure (no robot senses it),
   // computed on demand for evaluation.
   double StanceFootSpeed() const;
+  // The horizontal speed (m/s, world frame) of the fastest foot pressing on the floor with more
+  // than `min_force` N, 0 when none does: the stance-foot slip constraint's measure.
+  double FastestStanceFoot(double min_force) const;
   const EnvRandomization& randomization() const { return randomization_; }
   const EnvConfig& config() const { return config_; }
   const mjModel& model() const { return *model_; }
@@ -83,6 +86,7 @@ class Env {
   void SyncState();
 
  private:
+  double FootSpeed(int leg) const;  // m/s, horizontal, world frame
   void SampleRandomization();
   void ApplyRandomization();
   void PlaceInitialState();

@@ -8,6 +8,7 @@
 #include "core/config.h"
 #include "robot/a1.h"
 #include "robot/target_filter.h"
+#include "sim/constraints.h"
 
 namespace flsd {
 
@@ -72,11 +73,15 @@ struct ResetConfig {
   Interval joint_pos_scale{0.5, 1.5};  // q = q_default * U(range), clipped to the joint range
   double base_velocity = 0.5;          // each of the 6 base velocities ~ U(-x, x) (legged_gym)
   double foot_clearance = 0.005;       // m between the lowest foot and the floor at reset
+  // The share of resets that start as skilld starts a skill: the default pose, at rest. Skills
+  // trained only from legged_gym's scattered starts made a third of their speed from a stand.
+  double standing_fraction = 0.0;
   template <class V>
   void Visit(V& v) {
     v("joint_pos_scale", joint_pos_scale, Bounds<double>{0.0, 3.0});
     v("base_velocity", base_velocity, Bounds<double>{0.0, 5.0});
     v("foot_clearance", foot_clearance, Bounds<double>{0.0, 0.5});
+    v("standing_fraction", standing_fraction, Bounds<double>{0.0, 1.0});
   }
 };
 
@@ -114,20 +119,29 @@ struct EnvConfig {
   // simulated joints reached 24-56 rad/s in training, past what the A1's motors can turn and what
   // skilld's supervisor allows. Runs trained before it existed had it off.
   bool torque_speed_limit = true;
+  // rad/s up to which the motors keep their full torque on that line. Runs trained before it
+  // existed had 0, a line falling from rest, which left 18 N m of 33.5 at a stepping leg's 9.5 rad/s.
+  double torque_speed_knee = a1::kTorqueSpeedKnee;
+  // Order of the target filter below: 1 (exponential) or 2 (Butterworth).
+  int action_filter_order = 1;
   // Hz; 0 is off. The cutoff of the low-pass filter between a policy's joint targets and the
   // motors (robot/target_filter.h). A skill library records it and skilld runs the same filter.
   double action_filter_hz = 0.0;
   ResetConfig reset;
   TerminationConfig termination;
+  ConstraintLimits constraints;  // measured by VecEnv when enabled
   RandomizationConfig randomization;
   template <class V>
   void Visit(V& v) {
     v("model", model);
     v("episode_steps", episode_steps, Bounds<int>{1, 10000000});
     v("torque_speed_limit", torque_speed_limit);
+    v("torque_speed_knee", torque_speed_knee, Bounds<double>{0.0, a1::kJointVelocityLimit - 1.0});
+    v("action_filter_order", action_filter_order, Bounds<int>{1, 2});
     v("action_filter_hz", action_filter_hz, Bounds<double>{0.0, TargetFilter::kMaxCutoffHz});
     v("reset", reset);
     v("termination", termination);
+    v("constraints", constraints);
     v("randomization", randomization);
   }
 };

@@ -6,7 +6,7 @@
 namespace flsd {
 
 VecEnv::VecEnv(const EnvConfig& config, int num_envs, uint64_t seed, int num_threads, int first_env)
-    : model_(LoadMjModel(config.model)), pool_(num_threads) {
+    : model_(LoadMjModel(config.model)), pool_(num_threads), constraints_(config.constraints) {
   if (num_envs < 1) throw InputError("VecEnv: num_envs must be at least 1, got " + std::to_string(num_envs));
   envs_.reserve(num_envs);
   for (int i = 0; i < num_envs; ++i) envs_.emplace_back(*model_, config, StreamSeed(seed, first_env + i));
@@ -17,6 +17,7 @@ VecEnv::VecEnv(const EnvConfig& config, int num_envs, uint64_t seed, int num_thr
   foot_contact_.assign(num_envs * a1::kNumLegs, 0);
   termination_.assign(num_envs, Termination::kNone);
   stepped_calf_contact_.assign(num_envs, 0);
+  violations_.assign(num_envs * kNumConstraints, 0.0f);
   terminal_state_.resize(num_envs);
   for (int i = 0; i < num_envs; ++i) WriteRow(i, &motion_obs_[i * kMotionObsSize], &position_[i * 3]);
 }
@@ -39,6 +40,10 @@ void VecEnv::Step(const float* actions) {
       const Termination t = env.Step(actions + i * kActionSize);
       termination_[i] = t;
       stepped_calf_contact_[i] = env.calf_contact();
+      if (constraints_.enabled) {
+        const std::array<float, kNumConstraints> v = MeasureViolations(env, constraints_);
+        std::copy(v.begin(), v.end(), &violations_[i * kNumConstraints]);
+      }
       if (t != Termination::kNone) {
         WriteRow(i, &terminal_motion_obs_[i * kMotionObsSize], &terminal_position_[i * 3]);
         terminal_state_[i] = env.state();

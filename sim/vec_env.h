@@ -41,6 +41,9 @@ class VecEnv {
     return termination_[i] == Termination::kNone ? envs_[i].state() : terminal_state_[i];
   }
   bool stepped_calf_contact(int i) const { return stepped_calf_contact_[i] != 0; }
+  // Of the last Step, when EnvConfig::constraints is enabled: x kNumConstraints, what env i's step
+  // violated (sim/constraints.h), measured before any reset.
+  const float* violations() const { return violations_.data(); }
 
   Env& env(int i) { return envs_[i]; }
   const Env& env(int i) const { return envs_[i]; }
@@ -54,6 +57,8 @@ class VecEnv {
   ThreadPool pool_;
   std::vector<float> motion_obs_, position_, terminal_motion_obs_, terminal_position_;
   std::vector<unsigned char> foot_contact_, stepped_calf_contact_;
+  ConstraintLimits constraints_;
+  std::vector<float> violations_;
   std::vector<RobotState> terminal_state_;
   std::vector<Termination> termination_;
 };

@@ -57,7 +57,7 @@ void Ppo::set_learning_rate(double lr) {
   }
 }
 
-PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
+PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns, const MirroredSamples* mirrored) {
   const torch::Tensor obs = Flat(rollout.obs), critic_obs = Flat(rollout.critic_obs);
   const torch::Tensor actions = Flat(rollout.actions), old_distributions = Flat(rollout.distributions);
   const torch::Tensor old_log_probs = Flat(rollout.log_probs), old_values = Flat(rollout.values);
@@ -71,8 +71,16 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
     const torch::Tensor order = torch::randperm(batch, torch::kLong);
     for (int64_t begin = 0; begin + minibatch <= batch; begin += minibatch) {
       const torch::Tensor idx = order.slice(0, begin, begin + minibatch);
-      const torch::Tensor distribution = policy_->Distribution(obs.index_select(0, idx));
-      const torch::Tensor value = policy_->Value(critic_obs.index_select(0, idx));
+      // With mirror images, the minibatch is [originals; mirror images], and what the mirror
+      // images take from their originals is repeated.
+      auto with_mirror = [&](const torch::Tensor& all, const torch::Tensor* mirrored_all) {
+        const torch::Tensor picked = all.index_select(0, idx);
+        return mirrored_all ? torch::cat({picked, mirrored_all->index_select(0, idx)}, 0) : picked;
+      };
+      auto repeated = [&](const torch::Tensor& all) { return with_mirror(all, mirrored ? &all : nullptr); };
+      const torch::Tensor distributions = policy_->Distribution(with_mirror(obs, mirrored ? &mirrored->obs : nullptr));
+      const torch::Tensor distribution = distributions.slice(0, 0, minibatch);  // the originals'
+      const torch::Tensor value = policy_->Value(with_mirror(critic_obs, mirrored ? &mirrored->critic_obs : nullptr));
 
       if (config_.adaptive_learning_rate) {
         torch::NoGradGuard no_grad;
@@ -87,13 +95,14 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns) {
         }
       }
 
-      const torch::Tensor log_prob = policy_->LogProb(distribution, actions.index_select(0, idx));
-      const torch::Tensor ratio = torch::exp(log_prob - old_log_probs.index_select(0, idx));
-      const torch::Tensor adv = advantages.index_select(0, idx);
+      const torch::Tensor log_prob =
+          policy_->LogProb(distributions, with_mirror(actions, mirrored ? &mirrored->actions : nullptr));
+      const torch::Tensor ratio = torch::exp(log_prob - repeated(old_log_probs));
+      const torch::Tensor adv = repeated(advantages);
       const torch::Tensor surrogate =
           torch::max(-adv * ratio, -adv * torch::clamp(ratio, 1.0 - config_.clip, 1.0 + config_.clip)).mean();
-      const torch::Tensor mb_old_values = old_values.index_select(0, idx);
-      const torch::Tensor mb_target = target.index_select(0, idx);
+      const torch::Tensor mb_old_values = repeated(old_values);
+      const torch::Tensor mb_target = repeated(target);
       const torch::Tensor value_clipped =
           mb_old_values + torch::clamp(value - mb_old_values, -config_.clip, config_.clip);
       const torch::Tensor value_loss =

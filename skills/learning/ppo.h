@@ -53,6 +53,14 @@ struct Rollout {
   torch::Tensor timeouts;    // [T, N], 1 where it ended by time-out
 };
 
+// The rollout's mirror images (robot/mirror.h) for symmetry augmentation, flattened [T * N, ...]:
+// what the policy would see and do in the mirrored world.
+struct MirroredSamples {
+  torch::Tensor obs;
+  torch::Tensor critic_obs;
+  torch::Tensor actions;
+};
+
 struct Returns {
   torch::Tensor returns;     // [T, N]
   torch::Tensor advantages;  // [T, N], normalised over the batch
@@ -80,7 +88,10 @@ class Ppo {
  public:
   Ppo(std::shared_ptr<PpoPolicyImpl> policy, const PpoConfig& config, const Communicator& comm = Communicator::Self());
 
-  PpoStats Update(const Rollout& rollout, const Returns& returns);
+  // With `mirrored`, every minibatch is trained together with its mirror images, which take the
+  // originals' old log-probabilities, values, returns and advantages (rsl_rl's symmetry
+  // augmentation); the KL that adapts the learning rate and the entropy bonus are the originals'.
+  PpoStats Update(const Rollout& rollout, const Returns& returns, const MirroredSamples* mirrored = nullptr);
 
   torch::optim::Adam& optimizer() { return optimizer_; }
   const torch::optim::Adam& optimizer() const { return optimizer_; }

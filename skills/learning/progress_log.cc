@@ -9,11 +9,16 @@
 #include "core/check.h"
 
 namespace flsd {
-const char* const kSkillProgressHeader =
+std::string SkillProgressHeader() {
+  std::string header =
     "iteration,env_steps,steps_per_s,episodes_ended,mean_episode_length,fall_fraction,"
     "discriminator_accuracy,intrinsic_reward,discriminator_loss,pae_loss,surrogate_loss,value_loss,"
     "entropy,kl,learning_rate,action_std,seconds_physics,seconds_policy,seconds_bookkeeping,"
-    "seconds_reward,seconds_ppo,seconds_pae,seconds_discriminator,seconds_total,regularization";
+    "seconds_reward,seconds_ppo,seconds_pae,seconds_discriminator,seconds_total,regularization,"
+    "termination_probability";
+  for (const char* name : kConstraintNames) header += std::string(",violation_") + name;
+  return header;
+}
 
 std::string Duration(double seconds) {
   char text[32];
@@ -57,7 +62,15 @@ std::string ProgressRow(const IterationStats& s) {
                 s.ppo.learning_rate, s.action_std, s.seconds_physics, s.seconds_policy,
                 s.seconds_bookkeeping, s.seconds_reward, s.seconds_ppo, s.seconds_pae,
                 s.seconds_discriminator, s.seconds_total, s.regularization);
-  return row;
+  std::string out = row;
+  char number[32];
+  std::snprintf(number, sizeof(number), ",%.5f", s.constraints.mean_probability);
+  out += number;
+  for (double rate : s.constraints.violation_rate) {
+    std::snprintf(number, sizeof(number), ",%.5f", rate);
+    out += number;
+  }
+  return out;
 }
 
 std::string ProgressLine(const IterationStats& s, int total_iterations, int num_skills, double eta_seconds) {

@@ -20,7 +20,7 @@ class ProgressLog {
 };
 
 // The skill trainer's columns, and one row of them.
-extern const char* const kSkillProgressHeader;
+std::string SkillProgressHeader();
 std::string ProgressRow(const IterationStats& stats);
 
 // "1h02m" or "3m05s".

@@ -77,10 +77,13 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
       normalizer_(obs_size_),
       ppo_(policy_, config.ppo) {
   ValidateTaskTrainConfig(config, "task training config");
-  if (library_ && config.env.action_filter_hz != library_->action_filter_hz()) {
-    throw InputError("env.action_filter_hz: " + std::to_string(config.env.action_filter_hz) + " Hz, but the skills of " +
+  if (library_ && (config.env.action_filter_hz != library_->action_filter_hz() ||
+                   config.env.action_filter_order != library_->action_filter_order())) {
+    throw InputError("env.action_filter_hz and action_filter_order: " + std::to_string(config.env.action_filter_hz) +
+                     " Hz of order " + std::to_string(config.env.action_filter_order) + ", but the skills of " +
                      library_->path() + " were trained behind a " + std::to_string(library_->action_filter_hz()) +
-                     " Hz target filter (0: none); the selector must run them behind the same");
+                     " Hz target filter of order " + std::to_string(library_->action_filter_order()) +
+                     " (0 Hz: none); the selector must run them behind the same");
   }
   const int n = num_envs_, t = steps_;
   if (library_) {
@@ -352,7 +355,9 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
   ValidateTaskTrainConfig(config, folder.config_file);
   // A new selector runs its skills behind the target filter they were trained with.
   if (!options.resume && ParseTaskMethod(config.method) == TaskMethod::kSelector) {
-    config.env.action_filter_hz = SkillLibrary::Load(config.library).action_filter_hz();
+    const SkillLibrary library = SkillLibrary::Load(config.library);
+    config.env.action_filter_hz = library.action_filter_hz();
+    config.env.action_filter_order = library.action_filter_order();
   }
   RecordRunStart(folder, ToYamlString(config), options.resume);
   ConfigureTorchThreads(config.num_threads);

@@ -19,6 +19,7 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
   EnvConfig config = env_config;
   config.randomization.DisableAll();
   config.action_filter_hz = library.action_filter_hz();  // as skilld runs the skills
+  config.action_filter_order = library.action_filter_order();
   const int steps = static_cast<int>(std::lround(seconds / a1::kControlDt));
   const int settle = static_cast<int>(std::lround(settle_seconds / a1::kControlDt));
   config.episode_steps = steps + 1;

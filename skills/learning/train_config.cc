@@ -20,6 +20,17 @@ void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
     throw InputError(where + ": pae.kernel_size: expected an odd number, got " +
                      std::to_string(config.pae.kernel_size));
   }
+  if (config.symmetry.enabled) {
+    try {
+      mirror::SkillPairing(config.num_skills, config.symmetry.self_paired_skills);
+    } catch (const InputError& e) {
+      throw InputError(where + ": symmetry." + e.what());
+    }
+  }
+  if (config.skill_switch.enabled() && config.skill_switch.interval_s.lo < a1::kControlDt) {
+    throw InputError(where + ": skill_switch.interval_s: expected at least one control step (0.02 s), got " +
+                     std::to_string(config.skill_switch.interval_s.lo));
+  }
   if (config.window % 2 == 0) {
     throw InputError(where + ": window: expected an odd number of frames (the paper's H = 51), got " +
                      std::to_string(config.window));

@@ -6,6 +6,8 @@
 #include "core/config.h"
 #include "sim/env_config.h"
 #include "skills/learning/actor_critic.h"
+#include "skills/learning/constraint_terminations.h"
+#include "skills/learning/symmetry.h"
 #include "skills/learning/discriminator.h"
 #include "skills/learning/pae.h"
 #include "skills/learning/ppo.h"
@@ -33,6 +35,21 @@ struct RegularizationConfig {
   bool enabled() const { return action_rate != 0.0 || dof_acc != 0.0; }
 };
 
+// Skills resampled within an episode, as ETH D3 does, so that starting from another skill's motion
+// is in the training distribution: the selector and navigation switch skills all the time.
+struct SkillSwitchConfig {
+  Interval interval_s{0.0, 0.0};  // s between draws, uniform in the interval; 0: one skill an episode
+  // Steps after a switch whose reward is withheld and whose samples the discriminator does not
+  // see: their motion window still holds the previous skill's motion (H/2 by default).
+  int reward_mask_steps = 25;
+  template <class V>
+  void Visit(V& v) {
+    v("interval_s", interval_s, Bounds<double>{0.0, 3600.0});
+    v("reward_mask_steps", reward_mask_steps, Bounds<int>{0, 100000});
+  }
+  bool enabled() const { return interval_s.hi > 0.0; }
+};
+
 struct TrainConfig {
   std::string method = "flsd";
   int seed = 1;
@@ -53,6 +70,10 @@ struct TrainConfig {
   // can peak mid-run and be lost by the end (runs/flsd_replicate_s1 had 8 movers at 1250, 4 at 3009).
   int keep_checkpoint_every = 250;
   RegularizationConfig regularization;
+  SymmetryConfig symmetry;
+  SkillSwitchConfig skill_switch;
+  // How likely env.constraints' violations end an episode (when env.constraints.enabled).
+  ConstraintTerminationConfig constraint_terminations;
   EnvConfig env;
   PolicyConfig policy;
   PpoConfig ppo;
@@ -75,6 +96,9 @@ struct TrainConfig {
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("keep_checkpoint_every", keep_checkpoint_every, Bounds<int>{0, 100000000});
     v("regularization", regularization);
+    v("symmetry", symmetry);
+    v("skill_switch", skill_switch);
+    v("constraint_terminations", constraint_terminations);
     v("env", env);
     v("policy", policy);
     v("ppo", ppo);

@@ -28,11 +28,18 @@ int DiscriminatorInputs(Method method, const PaeConfig& pae) {
   return 2 + (method == Method::kFlsd ? 2 * pae.latent_channels : kMotionObsSize);
 }
 
-// Seeds libtorch's generator and passes the config on: used to initialise the first member, so
-// that the seed is set before any network draws its initial weights.
-const TrainConfig& SeedTorch(const TrainConfig& config) {
+// Checks the config, seeds libtorch's generator and passes the config on: used to initialise the
+// first member, so that the seed is set before any network draws its initial weights.
+const TrainConfig& CheckedAndSeeded(const TrainConfig& config) {
+  ValidateTrainConfig(config, "training config");
   torch::manual_seed(config.seed);
   return config;
+}
+
+// Without symmetry every skill is its own pair, and nothing is mirrored.
+mirror::SkillPairing PairingOf(const TrainConfig& config) {
+  return mirror::SkillPairing(config.num_skills,
+                              config.symmetry.enabled ? config.symmetry.self_paired_skills : config.num_skills);
 }
 
 bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
@@ -80,7 +87,7 @@ double TrainEpochs(torch::optim::Optimizer& optimizer, const Communicator& comm,
 }
 
 Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
-    : config_(SeedTorch(config)),
+    : config_(CheckedAndSeeded(config)),
       comm_(comm),
       method_(ParseMethod(config.method)),
       num_envs_(LocalEnvs(config, comm)),
@@ -93,16 +100,19 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config.pae), config.num_skills, config.discriminator),
       ppo_(policy_.ptr(), config.ppo, comm),
+      pairing_(PairingOf(config)),
+      constraint_terminations_(config.constraint_terminations),
       pae_optimizer_(pae_->parameters(),
                      torch::optim::AdamWOptions(config.pae.learning_rate).weight_decay(config.pae.weight_decay)),
       discriminator_optimizer_(discriminator_->parameters(),
                                torch::optim::AdamOptions(config.discriminator.learning_rate)) {
-  ValidateTrainConfig(config, "training config");
   const int n = num_envs_, t = steps_;
   skill_.resize(n);
   previous_action_.assign(n * kActionSize, 0.0f);
   previous_joint_velocity_.assign(n * a1::kNumJoints, 0.0);
   episode_length_.assign(n, 0);
+  steps_to_switch_.assign(n, 0);
+  steps_since_switch_.assign(n, config.skill_switch.reward_mask_steps);
   ended_.assign(n, 0);
   ended_length_sum_.assign(n, 0);
   ended_falls_.assign(n, 0);
@@ -111,7 +121,7 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
   if (comm.rank() > 0) torch::manual_seed(StreamSeed(config.seed, comm.rank()));
   for (int i = 0; i < n; ++i) {
     skill_rng_.emplace_back(StreamSeed(config.seed + kSkillStream, comm.rank() * n + i));
-    skill_[i] = std::uniform_int_distribution<int>(0, config.num_skills - 1)(skill_rng_[i]);
+    DrawSkill(i);
     history_.emplace_back(config.window);
     history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
   }
@@ -126,6 +136,9 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
   rollout_.dones = torch::zeros({t, n}, f);
   rollout_.timeouts = torch::zeros({t, n}, f);
   raw_obs_ = torch::zeros({n, policy_obs_size_}, f);
+  if (config.symmetry.enabled) raw_rollout_obs_ = torch::zeros({t, n, policy_obs_size_}, f);
+  switching_ = torch::zeros({t, n}, f);
+  if (config.env.constraints.enabled) violations_ = torch::zeros({t, n, kNumConstraints}, f);
   if (method_ == Method::kFlsd) windows_ = torch::zeros({t, n, kMotionObsSize, config.window}, f);
   next_motion_ = torch::zeros({t, n, kMotionObsSize}, f);
   next_position_ = torch::zeros({t, n, 2}, f);
@@ -135,6 +148,13 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
     std::copy(vec_.env(i).state().joint_velocity.begin(), vec_.env(i).state().joint_velocity.end(),
               &previous_joint_velocity_[i * a1::kNumJoints]);
   }
+}
+
+void Trainer::DrawSkill(int i) {
+  Rng& rng = skill_rng_[i];
+  skill_[i] = std::uniform_int_distribution<int>(0, config_.num_skills - 1)(rng);
+  const SkillSwitchConfig& s = config_.skill_switch;
+  if (s.enabled()) steps_to_switch_[i] = std::max(1, static_cast<int>(std::lround(Uniform(rng, s.interval_s.lo, s.interval_s.hi) / a1::kControlDt)));
 }
 
 torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
@@ -165,6 +185,9 @@ void Trainer::CollectRollout(IterationStats& stats) {
     const torch::Tensor distribution = policy_->Distribution(obs);
     const torch::Tensor action = policy_->Sample(distribution);
     rollout_.obs[t].copy_(obs);
+    if (raw_rollout_obs_.defined()) raw_rollout_obs_[t].copy_(raw_obs_);
+    float* switching = switching_[t].data_ptr<float>();
+    for (int i = 0; i < num_envs_; ++i) switching[i] = steps_since_switch_[i] < config_.skill_switch.reward_mask_steps;
     rollout_.critic_obs[t].copy_(critic_obs);
     rollout_.actions[t].copy_(action);
     rollout_.distributions[t].copy_(distribution);
@@ -207,6 +230,7 @@ void Trainer::AfterStep(int t, const float* actions) {
   float* dones = rollout_.dones[t].data_ptr<float>();
   float* timeouts = rollout_.timeouts[t].data_ptr<float>();
   float* penalties = penalties_[t].data_ptr<float>();
+  float* violations = violations_.defined() ? violations_[t].data_ptr<float>() : nullptr;
   const RegularizationConfig& regularization = config_.regularization;
   vec_.pool().ParallelFor(n, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
@@ -220,6 +244,10 @@ void Trainer::AfterStep(int t, const float* actions) {
       next_position[2 * i] = position[0];
       next_position[2 * i + 1] = position[1];
       dones[i] = done ? 1.0f : 0.0f;
+      if (violations != nullptr) {
+        const float* v = vec_.violations() + i * kNumConstraints;
+        std::copy(v, v + kNumConstraints, violations + i * kNumConstraints);
+      }
       timeouts[i] = ending == Termination::kTimeOut ? 1.0f : 0.0f;
       ++episode_length_[i];
       float* previous = &previous_action_[i * kActionSize];
@@ -242,37 +270,47 @@ void Trainer::AfterStep(int t, const float* actions) {
         ended_falls_[i] += IsFailure(ending);
         episode_length_[i] = 0;
         // A new episode: a new skill drawn from the uniform prior, a fresh motion history.
-        skill_[i] = std::uniform_int_distribution<int>(0, config_.num_skills - 1)(skill_rng_[i]);
+        DrawSkill(i);
+        steps_since_switch_[i] = config_.skill_switch.reward_mask_steps;
         std::fill(previous, previous + kActionSize, 0.0f);
         history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
       } else {
         history_[i].Push(next);
         std::copy(actions + i * kActionSize, actions + (i + 1) * kActionSize, previous);
+        ++steps_since_switch_[i];
+        // Within the episode, the next skill takes over from this one's motion.
+        if (config_.skill_switch.enabled() && --steps_to_switch_[i] <= 0) {
+          const int before = skill_[i];
+          DrawSkill(i);
+          if (skill_[i] != before) steps_since_switch_[i] = 0;
+        }
       }
     }
   });
+}
+
+// The phase manifold of each window [B, 33, H], encoded in chunks (FLSD's o^d features).
+torch::Tensor Trainer::Manifold(const torch::Tensor& windows) {
+  const int64_t count = windows.size(0);
+  std::vector<torch::Tensor> parts;
+  for (int64_t begin = 0; begin < count; begin += kRewardChunk) {
+    parts.push_back(pae_->Manifold(windows.slice(0, begin, std::min(count, begin + kRewardChunk))));
+  }
+  return torch::cat(parts, 0);
 }
 
 void Trainer::ComputeRewards(IterationStats& stats) {
   torch::NoGradGuard no_grad;
   const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
   const torch::Tensor positions = next_position_.view({count, 2});
-  torch::Tensor features;
-  if (method_ == Method::kFlsd) {
-    // Eq. 13: o^d = [q, P], P the phase manifold of the window ending at t + 1.
-    const torch::Tensor windows = windows_.view({count, kMotionObsSize, config_.window});
-    std::vector<torch::Tensor> parts;
-    for (int64_t begin = 0; begin < count; begin += kRewardChunk) {
-      parts.push_back(pae_->Manifold(windows.slice(0, begin, std::min(count, begin + kRewardChunk))));
-    }
-    features = torch::cat(parts, 0);
-  } else {
-    // DIAYN: o^d = [q, o^m].
-    features = next_motion_.view({count, kMotionObsSize});
-  }
-  discriminator_obs_ = torch::cat({positions, features}, 1);
+  // Eq. 13: FLSD's o^d = [q, P], P the phase manifold of the window ending at t + 1; DIAYN's
+  // o^d = [q, o^m].
+  const torch::Tensor features = method_ == Method::kFlsd
+                                     ? Manifold(windows_.view({count, kMotionObsSize, config_.window}))
+                                     : next_motion_.view({count, kMotionObsSize});
+  const torch::Tensor observations = torch::cat({positions, features}, 1);
   const torch::Tensor skills = skills_.view({count});
-  const torch::Tensor log_probs = discriminator_->LogProbs(discriminator_obs_);
+  const torch::Tensor log_probs = discriminator_->LogProbs(observations);
   const torch::Tensor reward = IntrinsicReward(log_probs, skills);
   // Means over all ranks (each holds as many transitions).
   double means[3] = {reward.mean().item<double>(),
@@ -284,7 +322,53 @@ void Trainer::ComputeRewards(IterationStats& stats) {
   stats.regularization = means[2] / comm_.size();
   // As legged_gym clips its total: penalties included, so that no step pays less than ending.
   const torch::Tensor total = config_.reward_scale * reward + penalties_.view({count});
-  rollout_.rewards.copy_((config_.only_positive_rewards ? total.clamp_min(0.0) : total).view({steps_, num_envs_}));
+  torch::Tensor rewards = (config_.only_positive_rewards ? total.clamp_min(0.0) : total).view({steps_, num_envs_});
+  // Just after a skill switch the window mixes two skills' motions: no reward for it.
+  rewards = rewards * (1.0 - switching_);
+  if (violations_.defined()) {
+    // CaT: a violation ends the episode with its probability, which scales the step's reward and
+    // what the step bootstraps from its successor.
+    const torch::Tensor p = constraint_terminations_.Probabilities(violations_, iteration_, comm_, stats.constraints);
+    rewards = rewards * (1.0 - p);
+    rollout_.dones.copy_(torch::max(rollout_.dones, p));
+  }
+  rollout_.rewards.copy_(rewards);
+  DiscriminatorSamples(observations, positions);
+}
+
+torch::Tensor Trainer::MirroredFeatures(int64_t count) {
+  const mirror::SignedPermutation motion = mirror::MotionObservation();
+  if (method_ == Method::kFlsd) {
+    return Manifold(MirrorAlong(motion, windows_.view({count, kMotionObsSize, config_.window}), 1));
+  }
+  return MirrorAlong(motion, next_motion_.view({count, kMotionObsSize}), 1);
+}
+
+void Trainer::DiscriminatorSamples(const torch::Tensor& observations, const torch::Tensor& positions) {
+  const int64_t count = observations.size(0);
+  const torch::Tensor skills = skills_.view({count});
+  const torch::Tensor kept = (switching_.view({count}) == 0).nonzero().squeeze(1);
+  discriminator_obs_ = observations.index_select(0, kept);
+  discriminator_labels_ = skills.index_select(0, kept);
+  if (!config_.symmetry.enabled) return;
+  // The mirror image of skill k's sample is a sample of k's pair.
+  const torch::Tensor mirrored =
+      torch::cat({MirrorAlong(mirror::PlanarPosition(), positions, 1), MirroredFeatures(count)}, 1);
+  discriminator_obs_ = torch::cat({discriminator_obs_, mirrored.index_select(0, kept)}, 0);
+  discriminator_labels_ =
+      torch::cat({discriminator_labels_, PairIndex(pairing_).index_select(0, skills).index_select(0, kept)}, 0);
+}
+
+MirroredSamples Trainer::MirroredRollout() const {
+  torch::NoGradGuard no_grad;
+  const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
+  MirroredSamples m;
+  const torch::Tensor raw = raw_rollout_obs_.view({count, policy_obs_size_});
+  m.obs = NormalizeLeadingColumns(normalizer_, MirrorAlong(mirror::PolicyObservation(pairing_), raw, 1));
+  const torch::Tensor position = rollout_.critic_obs.view({count, critic_obs_size_}).slice(1, policy_obs_size_);
+  m.critic_obs = torch::cat({m.obs, MirrorAlong(mirror::PlanarPosition(), position, 1)}, 1);
+  m.actions = MirrorAlong(mirror::Joints(), rollout_.actions.view({count, kActionSize}), 1);
+  return m;
 }
 
 double Trainer::UpdatePae() {
@@ -293,20 +377,26 @@ double Trainer::UpdatePae() {
   const int64_t sampled = std::max<int64_t>(1, std::llround(c.sample_fraction * count));
   const torch::Tensor windows = windows_.view({count, kMotionObsSize, config_.window});
   const torch::Tensor chosen = torch::randperm(count, torch::kLong).slice(0, 0, sampled);
+  const mirror::SignedPermutation motion = mirror::MotionObservation();
   return TrainEpochs(pae_optimizer_, comm_, chosen, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
-    const torch::Tensor x = windows.index_select(0, idx);
+    torch::Tensor x = windows.index_select(0, idx);
+    // With symmetry, half of the windows are mirror images, so that the manifold of a mirrored
+    // window (the discriminator's mirrored samples) is in the PAE's training distribution.
+    if (config_.symmetry.enabled) {
+      const int64_t half = x.size(0) / 2;
+      x = torch::cat({x.slice(0, 0, half), MirrorAlong(motion, x.slice(0, half), 1)}, 0);
+    }
     return pae_->Loss(x, pae_->Forward(x));  // Eq. 3
   });
 }
 
 double Trainer::UpdateDiscriminator() {
   const DiscriminatorConfig& c = config_.discriminator;
-  const int64_t count = discriminator_obs_.size(0);
-  const torch::Tensor skills = skills_.view({count});
-  const torch::Tensor all = torch::arange(count, torch::kLong);
+  const torch::Tensor all = torch::arange(discriminator_obs_.size(0), torch::kLong);
   return TrainEpochs(discriminator_optimizer_, comm_, all, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
     // Eq. 12 on (o^d, k) pairs of this rollout.
-    return DiscriminatorLoss(discriminator_->LogProbs(discriminator_obs_.index_select(0, idx)), skills.index_select(0, idx));
+    return DiscriminatorLoss(discriminator_->LogProbs(discriminator_obs_.index_select(0, idx)),
+                             discriminator_labels_.index_select(0, idx));
   });
 }
 
@@ -320,8 +410,13 @@ IterationStats Trainer::RunIteration() {
   stats.seconds_reward = Since(phase);
 
   phase = Clock::now();
-  stats.ppo =
-      ppo_.Update(rollout_, ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda, comm_));
+  const Returns returns = ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda, comm_);
+  if (config_.symmetry.enabled) {
+    const MirroredSamples mirrored = MirroredRollout();
+    stats.ppo = ppo_.Update(rollout_, returns, &mirrored);
+  } else {
+    stats.ppo = ppo_.Update(rollout_, returns);
+  }
   stats.seconds_ppo = Since(phase);
 
   phase = Clock::now();
@@ -363,6 +458,7 @@ void Trainer::SaveCheckpoint(const std::string& path) const {
   archive.write("ranks", c10::IValue(static_cast<int64_t>(comm_.size())));
   WriteTorchRng(archive);
   archive.write("skill_rng", c10::IValue(RngState(skill_rng_)));
+  archive.write("constraint_scales", c10::IValue(constraint_terminations_.State()));
   WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
 }
 
@@ -398,6 +494,10 @@ void Trainer::LoadCheckpoint(const std::string& path) {
     iteration_ = static_cast<int>(ReadInt(archive, "iteration"));
     env_steps_ = static_cast<long>(ReadInt(archive, "env_steps"));
     ppo_.set_learning_rate(ReadDouble(archive, "learning_rate"));
+    c10::IValue scales{std::string()};  // checkpoints from before constraints as terminations
+    if (archive.try_read("constraint_scales", scales) && !scales.toStringRef().empty()) {
+      constraint_terminations_.Restore(scales.toStringRef(), path);
+    }
     c10::IValue ranks(static_cast<int64_t>(1));  // checkpoints from before data parallelism
     archive.try_read("ranks", ranks);
     if (comm_.size() == 1 && ranks.toInt() == 1) {

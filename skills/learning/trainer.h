@@ -32,6 +32,7 @@ struct IterationStats {
   double discriminator_accuracy = 0.0;
   double intrinsic_reward = 0.0;      // mean of Eq. 11 before any clipping
   double regularization = 0.0;        // mean smoothness penalty per step (dt-scaled, <= 0)
+  ConstraintStats constraints;        // with constraints as terminations
   double discriminator_loss = 0.0;
   double pae_loss = 0.0;
   double action_std = 0.0;
@@ -102,6 +103,13 @@ class Trainer {
   torch::Tensor CriticObservations(const torch::Tensor& obs, const float* positions) const;
   void AfterStep(int t, const float* actions);
   void ComputeRewards(IterationStats& stats);
+  void DrawSkill(int env);
+  // The discriminator's training samples and labels: this rollout's, but for the steps just after
+  // a skill switch, and with symmetry their mirror images too.
+  void DiscriminatorSamples(const torch::Tensor& features, const torch::Tensor& positions);
+  torch::Tensor Manifold(const torch::Tensor& windows);
+  torch::Tensor MirroredFeatures(int64_t count);
+  MirroredSamples MirroredRollout() const;
   double UpdatePae();
   double UpdateDiscriminator();
 
@@ -117,6 +125,8 @@ class Trainer {
   PeriodicAutoencoder pae_{nullptr};
   Discriminator discriminator_{nullptr};
   Ppo ppo_;
+  mirror::SkillPairing pairing_;
+  ConstraintTerminations constraint_terminations_;
   torch::optim::AdamW pae_optimizer_;
   torch::optim::Adam discriminator_optimizer_;
 
@@ -127,17 +137,22 @@ class Trainer {
   std::vector<double> previous_joint_velocity_;  // per env x 12, for the dof_acc penalty
   std::vector<MotionHistory> history_;
   std::vector<int> episode_length_;
+  std::vector<int> steps_to_switch_, steps_since_switch_;  // skill switching within an episode
   std::vector<int> ended_, ended_length_sum_, ended_falls_;
 
   // The rollout, [T, N, ...].
   Rollout rollout_;
   torch::Tensor raw_obs_;        // [N, policy_obs_size], this step's unnormalised o^p
+  torch::Tensor raw_rollout_obs_;  // [T, N, policy_obs_size] unnormalised o^p (symmetry)
+  torch::Tensor switching_;      // [T, N] 1 within reward_mask_steps of a skill switch
+  torch::Tensor violations_;     // [T, N, kNumConstraints] (constraints as terminations)
   torch::Tensor windows_;        // [T, N, 33, H] o^H_{t+1} (FLSD)
   torch::Tensor next_motion_;    // [T, N, 33] o^m_{t+1}
   torch::Tensor next_position_;  // [T, N, 2] q_xy at t+1
   torch::Tensor skills_;         // [T, N] int64
   torch::Tensor penalties_;      // [T, N] smoothness penalties (RegularizationConfig), dt-scaled
-  torch::Tensor discriminator_obs_;  // [T * N, o^d]
+  torch::Tensor discriminator_obs_;     // [M, o^d], the discriminator's training samples
+  torch::Tensor discriminator_labels_;  // [M] int64
   torch::Tensor last_values_;    // [N]
 
   int iteration_ = 0;

@@ -140,7 +140,7 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
                  config.iterations);
   }
   return RunIterations(
-      trainer, comm, folder, kSkillProgressHeader, config.iterations, config.checkpoint_every,
+      trainer, comm, folder, SkillProgressHeader(), config.iterations, config.checkpoint_every,
       config.keep_checkpoint_every, stop_requested,
       [](const IterationStats& s) { return ProgressRow(s); },
       [&](const IterationStats& s, double eta) { return ProgressLine(s, config.iterations, config.num_skills, eta); });

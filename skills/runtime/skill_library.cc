@@ -204,6 +204,11 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
       m.Fail("/action/filter_hz", "must be within [0, " + std::to_string(TargetFilter::kMaxCutoffHz) + "] Hz");
     }
   }
+  // Libraries exported before the second-order filter existed ran the first-order one.
+  if (m.Has("/action/filter_order")) {
+    lib.action_filter_order_ = m.Get<int>("/action/filter_order");
+    if (lib.action_filter_order_ != 1 && lib.action_filter_order_ != 2) m.Fail("/action/filter_order", "must be 1 or 2");
+  }
   m.ExpectNumber("/control/kp", a1::kKp);
   m.ExpectNumber("/control/kd", a1::kKd);
   m.ExpectNumber("/control/control_dt", a1::kControlDt);

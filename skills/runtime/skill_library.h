@@ -65,9 +65,10 @@ class SkillLibrary {
   // The skill selector, if the library carries one (flsd export-selector).
   const std::optional<SelectorNetwork>& selector() const { return selector_; }
   const std::vector<SkillDescriptor>& skills() const { return skills_; }
-  // The cutoff of the target filter the skills were trained behind (0: none); whoever runs the
-  // policy runs a TargetFilter with it.
+  // The cutoff (0: none) and order of the target filter the skills were trained behind; whoever
+  // runs the policy runs a TargetFilter with them.
   double action_filter_hz() const { return action_filter_hz_; }
+  int action_filter_order() const { return action_filter_order_; }
   const nlohmann::json& metadata() const { return metadata_; }
   const std::string& path() const { return path_; }
   // A hash of the file's bytes (FNV-1a, 64 bits, hex): what a selector records of the library it
@@ -80,6 +81,7 @@ class SkillLibrary {
   int num_skills_ = 0;
   int policy_obs_size_ = 0;
   double action_filter_hz_ = 0.0;
+  int action_filter_order_ = 1;
   DenseNetwork policy_;
   std::optional<SelectorNetwork> selector_;
   std::vector<SkillDescriptor> skills_;

@@ -1,6 +1,7 @@
 // The target filter between a policy's action and the motors: its step response and its gain at a
-// known frequency are those of a first-order low-pass filter, 0 Hz passes targets through, and a
-// cutoff it cannot run is refused naming the range.
+// known frequency are those of a first-order low-pass filter, or of a second-order Butterworth
+// filter, 0 Hz passes targets through, and a cutoff or order it cannot run is refused naming the
+// range.
 
 #include "robot/target_filter.h"
 
@@ -55,6 +56,54 @@ TEST(TargetFilter, A20HzTargetIsAttenuatedAsTheTransferFunctionSays) {
     }
     EXPECT_NEAR(peak, expected, 0.03) << hz << " Hz";
   }
+}
+
+// The gain of a sine through `filter`, started at rest: the amplitude of the output's component
+// at the sine's frequency over the last 5 s of 10 (a whole number of periods for these rates).
+double MeasuredGain(TargetFilter filter, double hz) {
+  filter.Reset(Filled(0.0));
+  double in_phase = 0.0, quadrature = 0.0;
+  for (int t = 0; t < 500; ++t) {
+    const double phase = 2.0 * M_PI * hz * t * 0.02;
+    const double y = filter.Apply(Filled(std::sin(phase)))[5];
+    if (t < 250) continue;
+    in_phase += y * std::sin(phase) / 125.0;
+    quadrature += y * std::cos(phase) / 125.0;
+  }
+  return std::hypot(in_phase, quadrature);
+}
+
+TEST(TargetFilter, SecondOrderIsAButterworthFilterWithItsCutoffPrewarped) {
+  // |H| = 1 / sqrt(1 + (tan(pi f dt) / tan(pi fc dt))^4): at 10 Hz, -3 dB at the cutoff, a 3 Hz
+  // gait passes whole and a 20 Hz buzz keeps 5.6 % (the first order at 4 Hz: 80.5 % and 25.8 %).
+  const TargetFilter filter(10.0, 2);
+  for (const auto& [hz, expected] : {std::pair{3.0, 0.9976}, std::pair{10.0, 0.7071}, std::pair{20.0, 0.0556}}) {
+    const double ratio = std::tan(M_PI * hz * 0.02) / std::tan(M_PI * 10.0 * 0.02);
+    EXPECT_NEAR(1.0 / std::sqrt(1.0 + std::pow(ratio, 4)), expected, 1e-4) << hz << " Hz";
+    EXPECT_NEAR(MeasuredGain(filter, hz), expected, 2e-3) << hz << " Hz";
+  }
+  EXPECT_NEAR(MeasuredGain(TargetFilter(4.0, 1), 3.0), 0.805, 2e-3);
+}
+
+TEST(TargetFilter, SecondOrderSettlesOnAStepWithoutDrift) {
+  TargetFilter filter(10.0, 2);
+  filter.Reset(Filled(-1.5));
+  EXPECT_NEAR(filter.Apply(Filled(-1.5))[2], -1.5, 1e-12);  // at rest on its reset value
+  double y = 0.0;
+  for (int n = 0; n < 100; ++n) y = filter.Apply(Filled(0.5))[2];
+  EXPECT_NEAR(y, 0.5, 1e-9);
+}
+
+TEST(TargetFilter, AnOrderOtherThanOneOrTwoIsRefused) {
+  for (int bad : {0, 3}) {
+    try {
+      TargetFilter filter(10.0, bad);
+      ADD_FAILURE() << "order " << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), ::testing::HasSubstr("expected 1 or 2")) << bad;
+    }
+  }
+  EXPECT_THROW(TargetFilter(25.0, 2), InputError);  // the bilinear transform's pole at Nyquist
 }
 
 TEST(TargetFilter, ACutoffOutsideZeroToNyquistIsRefused) {

@@ -279,6 +279,11 @@ TEST(Env, TheMotorsTorqueSpeedLineKeepsAJointUnderTheA1sSpeedLimit) {
   EXPECT_DOUBLE_EQ(MotorTorque(20.0, 0.5, 10.0, 0.0, 0.0, 10.5, 0.0, 1.0, true), 16.75);
   EXPECT_EQ(MotorTorque(20.0, 0.5, -10.0, 0.0, 0.0, 10.5, 0.0, 1.0, true), -33.5);
   EXPECT_EQ(MotorTorque(20.0, 0.5, 10.0, 0.0, 0.0, 10.5, 0.0, 1.0, false), 33.5);
+  // With the knee at 45 % of 21 rad/s: full torque to 9.45 rad/s, then a line to none at 21.
+  EXPECT_EQ(DrivingTorqueLimit(9.45, a1::kTorqueSpeedKnee), 33.5);
+  EXPECT_NEAR(DrivingTorqueLimit(-15.225, a1::kTorqueSpeedKnee), 16.75, 1e-9);
+  EXPECT_EQ(DrivingTorqueLimit(21.0, a1::kTorqueSpeedKnee), 0.0);
+  EXPECT_NEAR(MotorTorque(20.0, 0.5, 10.0, 0.0, 0.0, 15.225, 0.0, 1.0, true, a1::kTorqueSpeedKnee), 16.75, 1e-9);
   // In the simulator: a thigh swung at full torque reaches 84 rad/s without the line; with it, it
   // creeps up to the no-load speed, and gravity and the trunk's counter-rotation carry it a few
   // percent past (21.6 rad/s measured).

@@ -7,6 +7,7 @@
 #include "robot/observation.h"
 #include "core/thread_pool.h"
 #include "sim/vec_env.h"
+#include "skills/learning/library_bar.h"
 #include "skills/learning/run_loop.h"
 #include "skills/learning/trainer.h"
 
@@ -88,6 +89,8 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
   eval.steps = steps;
   eval.randomized = options.randomize;
   eval.trajectories.resize(skills);
+  const mirror::SkillPairing pairing = SkillPairingOf(skills, config.symmetry);
+  for (int k = 0; k < skills; ++k) eval.mirror_skill.push_back(pairing(k));
   std::vector<bool> running(skills, true);
   const int obs_size = PolicyObservationSize(skills);
   torch::Tensor raw = torch::zeros({skills, obs_size});
@@ -144,8 +147,23 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
                              {"coverage", e.coverage.dim_rate[d]}});
   }
   nlohmann::json skills = nlohmann::json::array();
+  nlohmann::json pairs = nlohmann::json::array();
   for (const SkillSummary& s : e.skills) {
+    const int image = s.skill < static_cast<int>(e.mirror_skill.size()) ? e.mirror_skill[s.skill] : s.skill;
+    if (image > s.skill) {
+      // A pair moves as mirror images when its yaw rates and lateral speeds are opposite: each
+      // sum relative to the larger of the two is 0 for perfect mirror images, 1 for one still.
+      const SkillSummary& m = e.skills[image];
+      auto asymmetry = [](double a, double b) {
+        const double scale = std::max(std::abs(a), std::abs(b));
+        return scale > 1e-9 ? std::abs(a + b) / scale : 0.0;
+      };
+      pairs.push_back({{"skills", {s.skill, image}},
+                       {"yaw_rate_asymmetry", asymmetry(s.mean_angular_velocity[2], m.mean_angular_velocity[2])},
+                       {"lateral_asymmetry", asymmetry(s.mean_linear_velocity[1], m.mean_linear_velocity[1])}});
+    }
     skills.push_back({{"skill", s.skill},
+                      {"mirror_skill", image},
                       {"survival_steps", s.survival_steps},
                       {"fell", s.fell},
                       {"mean_linear_velocity", Array(s.mean_linear_velocity.data(), 3)},
@@ -176,6 +194,8 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
         {"pooled", e.high_frequency.pooled_ratio},
         {"mean", e.high_frequency.mean_ratio},
         {"std", e.high_frequency.std_ratio}}},
+      {"mirror_pairs", pairs},
+      {"bar", LibraryBarJson(JudgeLibrary(e))},
       {"skills", skills},
   };
 }

@@ -56,8 +56,8 @@ std::string ReadCommits(const std::string& path) {
 
 }  // namespace
 
-nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy,
-                                    const Evaluation& evaluation, const ExportProvenance& provenance) {
+nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy, const Evaluation& evaluation,
+                                    const Evaluation& randomized, const ExportProvenance& provenance) {
   nlohmann::json motion = nlohmann::json::array();
   for (const ObservationSegment& s : kMotionObsLayout) {
     motion.push_back({{"name", s.name}, {"offset", s.offset}, {"size", s.size}, {"scale", s.scale}});
@@ -68,14 +68,20 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
     joint_max.push_back(a1::JointMax(j));
   }
   nlohmann::json skills = nlohmann::json::array();
+  const mirror::SkillPairing pairing = SkillPairingOf(config.num_skills, config.symmetry);
   for (const SkillSummary& s : evaluation.skills) {
+    const SkillSummary& r = randomized.skills.at(s.skill);
     skills.push_back({{"id", s.skill},
+                      {"mirror_skill", pairing(s.skill)},
                       {"mean_linear_velocity", Vec(s.mean_linear_velocity)},
                       {"mean_angular_velocity", Vec(s.mean_angular_velocity)},
                       {"mean_base_height", s.mean_base_height},
+                      {"mean_stance_foot_speed", s.mean_stance_foot_speed},
                       {"gait_frequency_hz", s.gait_frequency_hz},
                       {"survival_steps", s.survival_steps},
-                      {"fell", s.fell}});
+                      {"fell", s.fell},
+                      {"randomized_survival_steps", r.survival_steps},
+                      {"randomized_fell", r.fell}});
   }
   nlohmann::json evaluation_json = EvaluationJson(evaluation);
   evaluation_json.erase("skills");  // per skill, the descriptors above
@@ -116,16 +122,17 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
         {"commits", provenance.commits},
         {"export_commit", provenance.export_commit}}},
       {"evaluation", evaluation_json},
+      {"randomized_evaluation", EvaluationJson(randomized)},
       {"skills", skills},
   };
 }
 
 void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const TrainedPolicy& policy,
-                       const Evaluation& evaluation, const ExportProvenance& provenance) {
+                       const Evaluation& evaluation, const Evaluation& randomized, const ExportProvenance& provenance) {
   SafeTensors file;
   // One string holds the whole description: safetensors metadata values must be strings.
   file.metadata["format"] = kSkillLibraryFormat;
-  file.metadata["flsd"] = SkillLibraryMetadata(config, policy, evaluation, provenance).dump();
+  file.metadata["flsd"] = SkillLibraryMetadata(config, policy, evaluation, randomized, provenance).dump();
   AddNetwork(file, policy.policy->actor(), policy.normalizer, "policy.", "normalizer.");
   WriteSafeTensors(path, file);
 }
@@ -135,13 +142,17 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, in
   const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
   const TrainedPolicy policy = LoadTrainedPolicy(config, RunCheckpoint(run_dir, iteration));
   const Evaluation evaluation = EvaluateSkills(config, policy.policy, policy.normalizer, EvaluationOptions{});
+  EvaluationOptions randomize;
+  randomize.randomize = true;
+  const Evaluation randomized = EvaluateSkills(config, policy.policy, policy.normalizer, randomize);
   const ExportProvenance provenance{run_dir, ReadCommits((fs::path(run_dir) / "commits").string()), FLSD_GIT_COMMIT};
-  WriteSkillLibrary(path, config, policy, evaluation, provenance);
+  WriteSkillLibrary(path, config, policy, evaluation, randomized, provenance);
   return {{"library", path},
           {"method", config.method},
           {"num_skills", config.num_skills},
           {"iteration", policy.iteration},
           {"skills_surviving_500_steps", evaluation.survivors},
+          {"skills_surviving_500_steps_randomized", randomized.survivors},
           {"state_coverage_rate", evaluation.coverage.rate}};
 }
 

@@ -23,16 +23,16 @@ struct ExportProvenance {
 
 // The library's metadata: format, robot, joint order, observation layout and scales, action
 // scale, default pose, gains, rates, limits, network shapes, training config and provenance,
-// evaluation metrics and one descriptor per skill.
-nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy,
-                                    const Evaluation& evaluation, const ExportProvenance& provenance);
+// evaluation metrics (without and with the training randomisation) and one descriptor per skill.
+nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy, const Evaluation& evaluation,
+                                    const Evaluation& randomized, const ExportProvenance& provenance);
 
 // Writes the library (atomically) to `path`.
 void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const TrainedPolicy& policy,
-                       const Evaluation& evaluation, const ExportProvenance& provenance);
+                       const Evaluation& evaluation, const Evaluation& randomized, const ExportProvenance& provenance);
 
 // Loads a run (its latest checkpoint, or the one kept at `iteration`), evaluates it without
-// randomisation, and writes its library to `path`.
+// randomisation and with it, and writes its library to `path`.
 nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, int iteration = 0);
 
 // Adds a selector run's (flsd train-selector) selector to the library it was trained over and

@@ -112,6 +112,7 @@ struct Evaluation {
   bool randomized = false;
   std::vector<SkillTrajectory> trajectories;  // one per skill, up to its first termination
   std::vector<SkillSummary> skills;
+  std::vector<int> mirror_skill;  // per skill, the skill trained as its mirror image (itself if none)
   int survivors = 0;  // skills that ran more than kCoverageMinSurvival steps
   CoverageResult coverage;
   HighFrequencyResult high_frequency;

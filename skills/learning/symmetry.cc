@@ -17,6 +17,10 @@ torch::Tensor MirrorAlong(const mirror::SignedPermutation& p, const torch::Tenso
   return x.index_select(d, index) * sign;
 }
 
+mirror::SkillPairing SkillPairingOf(int num_skills, const SymmetryConfig& config) {
+  return mirror::SkillPairing(num_skills, config.enabled ? config.self_paired_skills : num_skills);
+}
+
 torch::Tensor PairIndex(const mirror::SkillPairing& pairing) {
   std::vector<int64_t> pairs;
   for (int k = 0; k < pairing.num_skills(); ++k) pairs.push_back(pairing(k));

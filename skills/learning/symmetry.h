@@ -22,6 +22,9 @@ struct SymmetryConfig {
   }
 };
 
+// The skills' pairing under `config`; without symmetry every skill is its own pair.
+mirror::SkillPairing SkillPairingOf(int num_skills, const SymmetryConfig& config);
+
 // x's mirror image by `p` along dimension `dim` (whose size must be p.size()).
 torch::Tensor MirrorAlong(const mirror::SignedPermutation& p, const torch::Tensor& x, int64_t dim);
 

@@ -36,11 +36,6 @@ const TrainConfig& CheckedAndSeeded(const TrainConfig& config) {
   return config;
 }
 
-// Without symmetry every skill is its own pair, and nothing is mirrored.
-mirror::SkillPairing PairingOf(const TrainConfig& config) {
-  return mirror::SkillPairing(config.num_skills,
-                              config.symmetry.enabled ? config.symmetry.self_paired_skills : config.num_skills);
-}
 
 bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
 
@@ -100,7 +95,7 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config.pae), config.num_skills, config.discriminator),
       ppo_(policy_.ptr(), config.ppo, comm),
-      pairing_(PairingOf(config)),
+      pairing_(SkillPairingOf(config.num_skills, config.symmetry)),
       constraint_terminations_(config.constraint_terminations),
       pae_optimizer_(pae_->parameters(),
                      torch::optim::AdamWOptions(config.pae.learning_rate).weight_decay(config.pae.weight_decay)),

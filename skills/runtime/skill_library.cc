@@ -260,7 +260,24 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
     d.gait_frequency_hz = m.Get<double>(at + "/gait_frequency_hz");
     d.survival_steps = m.Get<int>(at + "/survival_steps");
     d.fell = m.Get<bool>(at + "/fell");
+    d.mirror_skill = m.Has(at + "/mirror_skill") ? m.Get<int>(at + "/mirror_skill") : k;
+    if (d.mirror_skill < 0 || d.mirror_skill >= lib.num_skills_) {
+      m.Fail(at + "/mirror_skill", "must be a skill id, 0 to " + std::to_string(lib.num_skills_ - 1));
+    }
+    if (m.Has(at + "/mean_stance_foot_speed")) d.mean_stance_foot_speed = m.Get<double>(at + "/mean_stance_foot_speed");
+    if (m.Has(at + "/randomized_survival_steps")) {
+      d.randomized_survival_steps = m.Get<int>(at + "/randomized_survival_steps");
+      d.randomized_fell = m.Get<bool>(at + "/randomized_fell");
+    }
     lib.skills_.push_back(d);
+  }
+  // Mirror images pair both ways.
+  for (const SkillDescriptor& d : lib.skills_) {
+    if (lib.skills_[d.mirror_skill].mirror_skill != d.id) {
+      m.Fail("/skills/" + std::to_string(d.id) + "/mirror_skill",
+             "is " + std::to_string(d.mirror_skill) + ", but skill " + std::to_string(d.mirror_skill) +
+                 "'s is not " + std::to_string(d.id));
+    }
   }
   return lib;
 }

@@ -22,6 +22,11 @@ struct SkillDescriptor {
   double gait_frequency_hz = 0.0;
   int survival_steps = 0;
   bool fell = false;
+  // Absent from libraries exported before they were recorded:
+  int mirror_skill = 0;  // the skill trained as this one's left-right mirror image (itself if none)
+  std::optional<double> mean_stance_foot_speed;  // m/s: how fast its stance feet slide
+  std::optional<int> randomized_survival_steps;  // under the training randomisation
+  bool randomized_fell = false;
 };
 
 using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;

@@ -240,6 +240,57 @@ TEST(Ppo, NonFiniteLossTakesNoStep) {
   for (size_t i = 0; i < after.size(); ++i) EXPECT_TRUE(torch::equal(after[i], before[i])) << "parameter " << i;
 }
 
+// Mirror images that are copies of their originals repeat every sample once: the mean losses, and
+// so the update, are those without them.
+TEST(Ppo, MirrorImagesIdenticalToTheOriginalsLeaveTheUpdateAsItWas) {
+  PpoConfig config;
+  config.adaptive_learning_rate = false;
+  torch::manual_seed(8);
+  const torch::Tensor obs = torch::randn({4, 16, 4});
+  std::vector<std::vector<torch::Tensor>> results;
+  for (bool with_copies : {false, true}) {
+    torch::manual_seed(9);
+    ActorCritic policy = TinyPolicy(4, 2);
+    Ppo ppo(policy.ptr(), config);
+    const Rollout r = BanditRollout(*policy, obs, FirstActionPositive);
+    const Returns returns = ComputeReturns(r, torch::zeros({16}), 0.99, 0.95);
+    const MirroredSamples copies{r.obs.reshape({64, 4}), r.critic_obs.reshape({64, 4}), r.actions.reshape({64, 2})};
+    torch::manual_seed(10);  // the same minibatches
+    ASSERT_TRUE(ppo.Update(r, returns, with_copies ? &copies : nullptr).finite);
+    std::vector<torch::Tensor> parameters;
+    for (const torch::Tensor& p : policy->parameters()) parameters.push_back(p.detach().clone());
+    results.push_back(parameters);
+  }
+  for (size_t i = 0; i < results[0].size(); ++i) {
+    EXPECT_TRUE(torch::allclose(results[0][i], results[1][i], 1e-5, 1e-6)) << "parameter " << i;
+  }
+}
+
+// A bandit seen only on one side (obs[0] > 0, where a positive action 0 pays) and its mirror
+// image (obs[0] and action 0 negated): with the mirror images the policy learns the other side
+// too, a negative action 0 where obs[0] < 0, which it never saw; without them it does not.
+TEST(Ppo, MirrorImagesTeachTheSideTheRolloutsNeverSaw) {
+  auto mean_action0_on_the_unseen_side = [](bool mirrored) {
+    torch::manual_seed(11);
+    ActorCritic policy = TinyPolicy(4, 2);
+    Ppo ppo(policy.ptr(), PpoConfig{});
+    torch::Tensor obs = torch::randn({8, 32, 4});
+    obs.select(2, 0).abs_();
+    const torch::Tensor flip = torch::tensor({-1.0f, 1.0f, 1.0f, 1.0f});
+    const torch::Tensor flip_action = torch::tensor({-1.0f, 1.0f});
+    for (int update = 0; update < 20; ++update) {
+      const Rollout r = BanditRollout(*policy, obs, FirstActionPositive);
+      const MirroredSamples images{r.obs.reshape({-1, 4}) * flip, r.critic_obs.reshape({-1, 4}) * flip,
+                                   r.actions.reshape({-1, 2}) * flip_action};
+      EXPECT_TRUE(ppo.Update(r, ComputeReturns(r, torch::zeros({32}), 0.99, 0.95), mirrored ? &images : nullptr).finite);
+    }
+    torch::NoGradGuard no_grad;
+    return policy->ActionMean(obs * flip).select(2, 0).mean().item<double>();
+  };
+  EXPECT_LT(mean_action0_on_the_unseen_side(true), -0.5);
+  EXPECT_GT(mean_action0_on_the_unseen_side(false), 0.0);
+}
+
 TEST(Ppo, SetLearningRateReachesTheOptimizer) {
   ActorCritic policy = TinyPolicy(4, 2);
   Ppo ppo(policy.ptr(), PpoConfig{});

@@ -389,6 +389,47 @@ TEST(ParseIteration, TakesOneToNineDigitsAndNothingElse) {
   EXPECT_EQ(ParseIteration("-5"), std::nullopt);
 }
 
+// The smoke run with everything the symmetric config adds: mirror images of every sample, skill
+// switches within episodes, constraints as terminations and standing starts.
+TrainConfig SymmetricSmokeConfig() {
+  TrainConfig config = SmokeConfig();
+  config.symmetry.enabled = true;
+  config.symmetry.self_paired_skills = 2;  // skills 0 and 1 mirror each other
+  config.skill_switch.interval_s = {0.1, 0.2};
+  config.skill_switch.reward_mask_steps = 3;
+  config.env.constraints.enabled = true;
+  config.env.reset.standing_fraction = 0.5;
+  return config;
+}
+
+TEST_F(TrainingRun, SymmetricIterationsTrainOnMirrorImagesAndCheckpointTheConstraintScales) {
+  const TrainConfig config = SymmetricSmokeConfig();
+  Trainer a(config);
+  IterationStats s = a.RunIteration();
+  s = a.RunIteration();
+  EXPECT_TRUE(s.finite);
+  // A random policy slides its feet: some steps violate, and end with some probability.
+  EXPECT_GT(s.constraints.violation_rate[static_cast<int>(Constraint::kFootSlip)], 0.0);
+  EXPECT_GT(s.constraints.mean_probability, 0.0);
+  EXPECT_LE(s.constraints.mean_probability, 1.0);
+  for (double rate : s.constraints.violation_rate) EXPECT_TRUE(rate >= 0.0 && rate <= 1.0) << rate;
+  a.SaveCheckpoint(Path("sym.pt"));
+  const std::string scales = ReadValue(Path("sym.pt"), "constraint_scales").toStringRef();
+  EXPECT_NE(scales.find_first_not_of("0 "), std::string::npos) << scales;
+  Trainer b(config);
+  b.LoadCheckpoint(Path("sym.pt"));
+  b.SaveCheckpoint(Path("sym_again.pt"));
+  EXPECT_EQ(ReadValue(Path("sym_again.pt"), "constraint_scales").toStringRef(), scales);
+  // Its evaluation names each skill's mirror image.
+  const Evaluation eval = EvaluateSkills(config, a.policy(), a.normalizer(), EvaluationOptions{false, 30, 1});
+  EXPECT_EQ(eval.mirror_skill, (std::vector<int>{1, 0, 2, 3}));
+  const nlohmann::json json = EvaluationJson(eval);
+  EXPECT_EQ(json["skills"][1]["mirror_skill"], 0);
+  ASSERT_EQ(json["mirror_pairs"].size(), 1u);
+  EXPECT_EQ(json["mirror_pairs"][0]["skills"], (std::vector<int>{0, 1}));
+  EXPECT_EQ(json["bar"]["num_skills"], 4);
+}
+
 TEST(TrainingConfigs, EveryShippedSkillConfigLoads) {
   int loaded = 0;
   for (const auto& entry : fs::directory_iterator(ResolveDataPath("configs"))) {
@@ -404,6 +445,7 @@ TEST(TrainingConfigs, TheServedConfigsEndEpisodesByTheSupervisorsDefaults) {
   const TerminationConfig supervisor = TerminationOf(SafetyConfig{});
   for (const TerminationConfig& served :
        {LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_served.yaml")).env.termination,
+        LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_symmetric.yaml")).env.termination,
         LoadTaskTrainConfig(ResolveDataPath("configs/selector_tracking_served.yaml")).env.termination}) {
     EXPECT_EQ(served.max_tilt, supervisor.max_tilt);
     EXPECT_EQ(served.min_base_height, supervisor.min_base_height);

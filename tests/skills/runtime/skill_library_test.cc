@@ -32,6 +32,8 @@ TrainConfig SmallConfig() {
   config.num_skills = kSkills;
   config.policy.actor_hidden = {32, 16};
   config.policy.critic_hidden = {8};
+  config.symmetry.enabled = true;  // pairs (0, 2) and (1, 3); skill 4 its own mirror image
+  config.symmetry.self_paired_skills = 1;
   return config;
 }
 
@@ -58,8 +60,18 @@ Evaluation FakeEvaluation(int skills) {
     s.mean_linear_velocity = {0.1 * k, -0.2, 0.0};
     s.mean_base_height = 0.25;
     s.gait_frequency_hz = 2.0;
+    s.mean_stance_foot_speed = 0.01 * k;
     e.skills.push_back(s);
   }
+  return e;
+}
+
+// The same skills under the training randomisation: shorter lives, the last one falling.
+Evaluation FakeRandomizedEvaluation(int skills) {
+  Evaluation e = FakeEvaluation(skills);
+  e.randomized = true;
+  for (SkillSummary& s : e.skills) s.survival_steps = 400 - s.skill;
+  e.skills.back().fell = true;
   return e;
 }
 
@@ -67,7 +79,7 @@ class SkillLibraryTest : public ::testing::Test {
  protected:
   void SetUp() override {
     path_ = UniqueTempPath("lib.safetensors");
-    WriteSkillLibrary(path_, config_, policy_, FakeEvaluation(kSkills), ExportProvenance{"run", "abc", "def"});
+    WriteSkillLibrary(path_, config_, policy_, FakeEvaluation(kSkills), FakeRandomizedEvaluation(kSkills), ExportProvenance{"run", "abc", "def"});
   }
   void TearDown() override { std::remove(path_.c_str()); }
 
@@ -101,6 +113,37 @@ TEST_F(SkillLibraryTest, LoadsShapesAndDescriptors) {
   EXPECT_EQ(lib.skills()[3].survival_steps, 997);
   EXPECT_DOUBLE_EQ(lib.skills()[3].mean_linear_velocity.x(), 0.3 * 1.0);
   EXPECT_EQ(lib.metadata()["training"]["iteration"], 7);
+  // What a user reads of a skill beyond its velocities: its mirror image, slip, randomised life.
+  EXPECT_EQ(lib.skills()[0].mirror_skill, 2);
+  EXPECT_EQ(lib.skills()[3].mirror_skill, 1);
+  EXPECT_EQ(lib.skills()[4].mirror_skill, 4);
+  EXPECT_DOUBLE_EQ(lib.skills()[3].mean_stance_foot_speed.value(), 0.03);
+  EXPECT_EQ(lib.skills()[3].randomized_survival_steps.value(), 397);
+  EXPECT_FALSE(lib.skills()[3].randomized_fell);
+  EXPECT_TRUE(lib.skills()[4].randomized_fell);
+  EXPECT_EQ(lib.metadata()["randomized_evaluation"]["randomized"], true);
+}
+
+TEST_F(SkillLibraryTest, MirrorImagesMustPairBothWaysAndOlderLibrariesHaveNone) {
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][0]["mirror_skill"] = 3; }),
+              HasSubstr("/skills/0/mirror_skill is 3, but skill 3's is not 0"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][1]["mirror_skill"] = 9; }),
+              HasSubstr("/skills/1/mirror_skill"));
+  SafeTensors file = ReadSafeTensors(path_);
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  for (nlohmann::json& skill : meta["skills"]) {
+    for (const char* key : {"mirror_skill", "mean_stance_foot_speed", "randomized_survival_steps", "randomized_fell"}) {
+      skill.erase(key);
+    }
+  }
+  file.metadata["flsd"] = meta.dump();
+  const std::string old = UniqueTempPath("old.safetensors");
+  WriteSafeTensors(old, file);
+  const SkillLibrary lib = SkillLibrary::Load(old);
+  EXPECT_EQ(lib.skills()[3].mirror_skill, 3);
+  EXPECT_FALSE(lib.skills()[3].mean_stance_foot_speed.has_value());
+  EXPECT_FALSE(lib.skills()[3].randomized_survival_steps.has_value());
+  std::remove(old.c_str());
 }
 
 // The Eigen runner and libtorch agree on the same weights and inputs.
@@ -152,8 +195,14 @@ TEST_F(SkillLibraryTest, CarriesTheTargetFilterOfTraining) {
   TrainConfig filtered = config_;
   filtered.env.action_filter_hz = 4.0;
   const std::string path = UniqueTempPath("filtered.safetensors");
-  WriteSkillLibrary(path, filtered, policy_, FakeEvaluation(kSkills), ExportProvenance{"run", "abc", "def"});
+  WriteSkillLibrary(path, filtered, policy_, FakeEvaluation(kSkills), FakeRandomizedEvaluation(kSkills), ExportProvenance{"run", "abc", "def"});
   EXPECT_EQ(SkillLibrary::Load(path).action_filter_hz(), 4.0);
+  EXPECT_EQ(SkillLibrary::Load(path).action_filter_order(), 1);
+  filtered.env.action_filter_hz = 10.0;
+  filtered.env.action_filter_order = 2;
+  WriteSkillLibrary(path, filtered, policy_, FakeEvaluation(kSkills), FakeRandomizedEvaluation(kSkills),
+                    ExportProvenance{"run", "abc", "def"});
+  EXPECT_EQ(SkillLibrary::Load(path).action_filter_order(), 2);
   std::remove(path.c_str());
   // Libraries from before the filter have no entry, and ran without one; a bad one is named.
   SafeTensors file = ReadSafeTensors(path_);

@@ -107,6 +107,8 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
   previous_joint_velocity_.assign(n * a1::kNumJoints, 0.0);
   episode_length_.assign(n, 0);
   steps_to_switch_.assign(n, 0);
+  skill_origin_.assign(n, {0.0, 0.0, 0.0});
+  critic_position_.assign(2 * n, 0.0f);
   steps_since_switch_.assign(n, config.skill_switch.reward_mask_steps);
   ended_.assign(n, 0);
   ended_length_sum_.assign(n, 0);
@@ -162,9 +164,16 @@ torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
   return NormalizeLeadingColumns(normalizer_, raw_obs_);
 }
 
-torch::Tensor Trainer::CriticObservations(const torch::Tensor& obs, const float* positions) const {
-  const torch::Tensor xy =
-      torch::from_blob(const_cast<float*>(positions), {num_envs_, 3}).slice(1, 0, 2) * config_.critic_position_scale;
+void Trainer::SkillFramePosition(int i, const float* world, float* out) const {
+  const auto& [x0, y0, yaw0] = skill_origin_[i];
+  const double dx = world[0] - x0, dy = world[1] - y0, c = std::cos(yaw0), s = std::sin(yaw0);
+  out[0] = static_cast<float>(c * dx + s * dy);
+  out[1] = static_cast<float>(-s * dx + c * dy);
+}
+
+torch::Tensor Trainer::CriticObservations(const torch::Tensor& obs) {
+  for (int i = 0; i < num_envs_; ++i) SkillFramePosition(i, vec_.position() + 3 * i, &critic_position_[2 * i]);
+  const torch::Tensor xy = torch::from_blob(critic_position_.data(), {num_envs_, 2}) * config_.critic_position_scale;
   return torch::cat({obs, xy}, 1);
 }
 
@@ -176,7 +185,7 @@ void Trainer::CollectRollout(IterationStats& stats) {
   for (int t = 0; t < steps_; ++t) {
     Clock::time_point start = Clock::now();
     const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/true);
-    const torch::Tensor critic_obs = CriticObservations(obs, vec_.position());
+    const torch::Tensor critic_obs = CriticObservations(obs);
     const torch::Tensor distribution = policy_->Distribution(obs);
     const torch::Tensor action = policy_->Sample(distribution);
     rollout_.obs[t].copy_(obs);
@@ -201,7 +210,7 @@ void Trainer::CollectRollout(IterationStats& stats) {
   }
   const Clock::time_point start = Clock::now();
   const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/false);
-  last_values_ = policy_->Value(CriticObservations(obs, vec_.position()));
+  last_values_ = policy_->Value(CriticObservations(obs));
   stats.seconds_policy += Since(start);
 
   double ended[3] = {0.0, 0.0, 0.0};  // episodes, their lengths, falls: over all ranks
@@ -236,8 +245,7 @@ void Trainer::AfterStep(int t, const float* actions) {
       const float* position = (done ? vec_.terminal_position() : vec_.position()) + i * 3;
       if (windows != nullptr) history_[i].WriteWindow(next, windows + i * window_floats);
       std::copy(next, next + kMotionObsSize, next_motion + i * kMotionObsSize);
-      next_position[2 * i] = position[0];
-      next_position[2 * i + 1] = position[1];
+      SkillFramePosition(i, position, next_position + 2 * i);
       dones[i] = done ? 1.0f : 0.0f;
       if (violations != nullptr) {
         const float* v = vec_.violations() + i * kNumConstraints;
@@ -267,6 +275,7 @@ void Trainer::AfterStep(int t, const float* actions) {
         // A new episode: a new skill drawn from the uniform prior, a fresh motion history.
         DrawSkill(i);
         steps_since_switch_[i] = config_.skill_switch.reward_mask_steps;
+        skill_origin_[i] = {0.0, 0.0, 0.0};  // every episode starts at the origin facing +x
         std::fill(previous, previous + kActionSize, 0.0f);
         history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
       } else {
@@ -277,7 +286,14 @@ void Trainer::AfterStep(int t, const float* actions) {
         if (config_.skill_switch.enabled() && --steps_to_switch_[i] <= 0) {
           const int before = skill_[i];
           DrawSkill(i);
-          if (skill_[i] != before) steps_since_switch_[i] = 0;
+          if (skill_[i] != before) {
+            // The new skill's q starts from where, and the way, the robot now is.
+            const RobotState& s = vec_.env(i).state();
+            const Eigen::Quaterniond& q = s.base_orientation;
+            const double yaw = std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+            skill_origin_[i] = {s.base_position.x(), s.base_position.y(), yaw};
+            steps_since_switch_[i] = 0;
+          }
         }
       }
     }

@@ -3,6 +3,7 @@
 // log q(k | o^d) - log p(k), while the PAE (FLSD only) and the discriminator are trained on the
 // same rollouts.
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <string>
@@ -100,7 +101,11 @@ class Trainer {
  private:
   void CollectRollout(IterationStats& stats);
   torch::Tensor PolicyObservations(bool update_normalizer);
-  torch::Tensor CriticObservations(const torch::Tensor& obs, const float* positions) const;
+  // The critic's o^p and q_xy, q in the current skill's frame (SkillFramePosition).
+  torch::Tensor CriticObservations(const torch::Tensor& obs);
+  // q_xy of env i at world position `world` (3 floats) in the frame the current skill started
+  // in: its position and heading when it took over (the origin and +x for an episode's first).
+  void SkillFramePosition(int i, const float* world, float* out) const;
   void AfterStep(int t, const float* actions);
   void ComputeRewards(IterationStats& stats);
   void DrawSkill(int env);
@@ -138,6 +143,8 @@ class Trainer {
   std::vector<MotionHistory> history_;
   std::vector<int> episode_length_;
   std::vector<int> steps_to_switch_, steps_since_switch_;  // skill switching within an episode
+  std::vector<std::array<double, 3>> skill_origin_;  // per env: x, y (m) and yaw (rad) at the switch
+  std::vector<float> critic_position_;               // per env: q_xy in the skill's frame
   std::vector<int> ended_, ended_length_sum_, ended_falls_;
 
   // The rollout, [T, N, ...].

@@ -17,7 +17,7 @@
 #include "robot/target_filter.h"
 #include "server/safety.h"
 #include "server/server_config.h"
-#include "skills/runtime/skill_library.h"
+#include "skills/runtime/hierarchical_policy.h"
 
 namespace flsd {
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <set>
 
+#include <yaml-cpp/yaml.h>
+
 #include "robot/observation.h"
 #include "sim/env.h"
 
@@ -15,7 +17,7 @@ std::vector<TrackingCase> StandardTrackingCases() {
 }
 
 TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env_config, double seconds,
-                                    double settle_seconds, uint64_t seed) {
+                                    double settle_seconds, uint64_t seed, SelectorKind selector) {
   EnvConfig config = env_config;
   config.randomization.DisableAll();
   config.action_filter_hz = library.action_filter_hz();  // as skilld runs the skills
@@ -24,9 +26,10 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
   const int settle = static_cast<int>(std::lround(settle_seconds / a1::kControlDt));
   config.episode_steps = steps + 1;
   const MjModelPtr model = LoadMjModel(config.model);
-  HierarchicalPolicy policy(library);
+  HierarchicalPolicy policy(library, selector);
 
   TrackingEvaluation out;
+  out.selector = selector;
   out.seconds = seconds;
   out.settle_seconds = settle_seconds;
   double lin2 = 0.0, ang2 = 0.0;
@@ -89,8 +92,29 @@ nlohmann::json TrackingJson(const TrackingEvaluation& e) {
                      {"skills_used", r.skills_used},
                      {"switches_per_s", r.switches_per_s}});
   }
-  return {{"seconds", e.seconds},           {"settle_seconds", e.settle_seconds}, {"rms_lin_error", e.rms_lin_error},
+  return {{"selector", ToString(e.selector)},
+          {"seconds", e.seconds},           {"settle_seconds", e.settle_seconds}, {"rms_lin_error", e.rms_lin_error},
           {"rms_ang_error", e.rms_ang_error}, {"falls", e.falls},                {"cases", cases}};
+}
+
+EnvConfig TrainingEnvOf(const SkillLibrary& library) {
+  const nlohmann::json& training = library.metadata().at("training");
+  const YAML::Node config = YAML::Load(training.at("config").get<std::string>());
+  EnvConfig env;
+  if (config["env"]) ReadConfig(config["env"], library.path() + ": training config: env.", env);
+  if (!config["env"] || !config["env"]["torque_speed_knee"]) env.torque_speed_knee = 0.0;
+  return env;
+}
+
+nlohmann::json CompareSelectors(const SkillLibrary& library, double seconds, double settle_seconds, uint64_t seed) {
+  const EnvConfig env = TrainingEnvOf(library);
+  nlohmann::json out = {{"library", library.path()}};
+  out["learned"] = library.selector()
+                       ? TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, SelectorKind::kLearned))
+                       : nlohmann::json();
+  out["nearest_skill"] =
+      TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, SelectorKind::kNearestSkill));
+  return out;
 }
 
 }  // namespace flsd

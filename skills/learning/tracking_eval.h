@@ -1,5 +1,5 @@
 #pragma once
-// How well a library's selector and skills track velocity commands: each of a fixed set of
+// How well a library's selector (learned or nearest-skill) and skills track velocity commands: each of a fixed set of
 // commands held for some seconds on the simulated A1 without randomisation, run exactly as skilld
 // runs it (HierarchicalPolicy, Eigen). Plain C++: no libtorch.
 
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "sim/env_config.h"
-#include "skills/runtime/skill_library.h"
+#include "skills/runtime/hierarchical_policy.h"
 
 namespace flsd {
 
@@ -32,15 +32,26 @@ struct TrackingResult {
 };
 
 struct TrackingEvaluation {
+  SelectorKind selector = SelectorKind::kLearned;
   double seconds = 0.0, settle_seconds = 0.0;
   std::vector<TrackingResult> cases;
   double rms_lin_error = 0.0, rms_ang_error = 0.0;  // over the cases
   int falls = 0;
 };
 
-// Throws InputError if the library has no selector.
+// Throws InputError if `selector` is kLearned and the library has none.
 TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env, double seconds,
-                                    double settle_seconds, uint64_t seed);
+                                    double settle_seconds, uint64_t seed,
+                                    SelectorKind selector = SelectorKind::kLearned);
 nlohmann::json TrackingJson(const TrackingEvaluation& evaluation);
+
+// The simulated A1 a library's skills were trained on (its metadata's training config), for
+// evaluating them as they were trained. Libraries from before the motors' torque knee trained
+// with the line from rest.
+EnvConfig TrainingEnvOf(const SkillLibrary& library);
+
+// `flsd track`: the eight commands with the library's learned selector (where it has one) and
+// with the nearest-skill selector, side by side.
+nlohmann::json CompareSelectors(const SkillLibrary& library, double seconds, double settle_seconds, uint64_t seed);
 
 }  // namespace flsd

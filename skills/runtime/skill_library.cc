@@ -306,44 +306,11 @@ void NetworkRunner::Run(const float* input, float* output) {
   Eigen::Map<Eigen::VectorXf>(output, activations_.back().size()) = activations_.back();
 }
 
-namespace {
-const DenseNetwork& SelectorOf(const SkillLibrary& library) {
-  if (!library.selector()) {
-    throw InputError(library.path() + ": the library has no skill selector (train one with flsd train-selector, "
-                     "then add it with flsd export-selector)");
-  }
-  return library.selector()->network;
-}
-}  // namespace
-
-HierarchicalPolicy::HierarchicalPolicy(const SkillLibrary& library)
-    : library_(library),
-      selector_(SelectorOf(library)),
-      policy_(library),
-      task_obs_(kTaskObsSize),
-      logits_(library.num_skills()),
-      policy_obs_(library.policy_obs_size()) {}
-
 std::array<double, 3> ClipCommand(const SelectorNetwork& s, const double* command) {
   std::array<double, 3> clipped;
   for (int a = 0; a < 3; ++a) clipped[a] = std::clamp(command[a], s.command_min[a], s.command_max[a]);
   if (std::hypot(clipped[0], clipped[1]) < s.min_planar_speed) clipped[0] = clipped[1] = 0.0;
   return clipped;
-}
-
-int HierarchicalPolicy::Act(const float* motion_obs, const double* command, const float* previous_action,
-                            float* action) {
-  if (held_skill_ < 0 || ticks_held_ >= library_.selector()->decision_interval) {
-    const std::array<double, 3> clipped = Clip(command);
-    BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
-    selector_.Run(task_obs_.data(), logits_.data());
-    held_skill_ = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
-    ticks_held_ = 0;
-  }
-  ++ticks_held_;
-  BuildPolicyObservation(motion_obs, previous_action, held_skill_, library_.num_skills(), policy_obs_.data());
-  policy_.Act(policy_obs_.data(), action);
-  return held_skill_;
 }
 
 }  // namespace flsd

@@ -116,27 +116,4 @@ class PolicyRunner {
   NetworkRunner runner_;
 };
 
-// The selector over the skills, as the paper runs it (Sec. IV-C): the most probable skill for
-// (o^m, command) is chosen every decision_interval control steps (every step in the paper) and
-// held in between, and the skill policy acts under it. No heap allocation per step. Throws
-// InputError if the library has no selector.
-class HierarchicalPolicy {
- public:
-  explicit HierarchicalPolicy(const SkillLibrary& library);
-
-  // `command` (vx, vy, wz) is clipped to the trained ranges first. Writes the 12 joint actions
-  // and returns the chosen skill.
-  int Act(const float* motion_obs, const double* command, const float* previous_action, float* action);
-  // Forgets the held skill: the next Act chooses afresh (a new task).
-  void Reset() { held_skill_ = -1; }
-  std::array<double, 3> Clip(const double* command) const { return ClipCommand(*library_.selector(), command); }
-
- private:
-  const SkillLibrary& library_;
-  NetworkRunner selector_;
-  PolicyRunner policy_;
-  std::vector<float> task_obs_, logits_, policy_obs_;
-  int held_skill_ = -1, ticks_held_ = 0;
-};
-
 }  // namespace flsd

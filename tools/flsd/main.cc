@@ -13,12 +13,14 @@
 #include "bench/sim_bench.h"
 #include "bench/train_bench.h"
 #include "core/check.h"
+#include "core/paths.h"
 #include "render/skill_render.h"
 #include "report/learning_curves.h"
 #include "skills/learning/communicator.h"
 #include "skills/learning/evaluation.h"
 #include "skills/learning/export.h"
 #include "skills/learning/task_trainer.h"
+#include "skills/learning/tracking_eval.h"
 #include "skills/learning/training_run.h"
 #include "tools/flsd/report_command.h"
 #include "tools/flsd/sim_demo.h"
@@ -94,6 +96,13 @@ int main(int argc, char** argv) {
       app.add_subcommand("export-selector", "Add a selector run's skill selector to its skill library");
   export_selector_cmd->add_option("run", run_dir, "Selector run folder (flsd train-selector)")->required();
   export_selector_cmd->add_option("-o,--output", library_path, "Library file to write")->required();
+
+  std::string track_library = "models/a1_flsd.safetensors";
+  double track_seconds = 10.0;
+  CLI::App* track_cmd = app.add_subcommand(
+      "track", "Track eight velocity commands with a library's learned selector and the nearest-skill selector");
+  track_cmd->add_option("library", track_library, "Skill library (default: the shipped one)");
+  track_cmd->add_option("--seconds", track_seconds, "Seconds per command")->check(CLI::Range(2.5, 600.0));
 
   flsd::RenderOptions render;
   CLI::App* render_cmd = app.add_subcommand(
@@ -213,6 +222,11 @@ int main(int argc, char** argv) {
     if (*export_selector_cmd) {
       flsd::ConfigureTorchThreads(0);
       std::printf("%s\n", flsd::ExportSelector(run_dir, library_path).dump(2).c_str());
+      return 0;
+    }
+    if (*track_cmd) {
+      const flsd::SkillLibrary library = flsd::SkillLibrary::Load(flsd::ResolveDataPath(track_library));
+      std::printf("%s\n", flsd::CompareSelectors(library, track_seconds, 2.0, 1).dump(2).c_str());
       return 0;
     }
     if (*plot_cmd) {

@@ -1,0 +1,67 @@
+#include "skills/runtime/hierarchical_policy.h"
+
+#include <algorithm>
+
+#include "core/check.h"
+#include "robot/observation.h"
+
+namespace flsd {
+namespace {
+
+const DenseNetwork& SelectorOf(const SkillLibrary& library) {
+  if (!library.selector()) {
+    throw InputError(library.path() + ": the library has no skill selector (train one with flsd train-selector, "
+                     "then add it with flsd export-selector, or use the nearest-skill selector)");
+  }
+  return library.selector()->network;
+}
+
+}  // namespace
+
+const char* ToString(SelectorKind kind) { return kind == SelectorKind::kLearned ? "learned" : "nearest_skill"; }
+
+SelectorKind ParseSelectorKind(const std::string& name) {
+  if (name == "learned") return SelectorKind::kLearned;
+  if (name == "nearest_skill") return SelectorKind::kNearestSkill;
+  throw InputError("selector '" + name + "': expected learned or nearest_skill");
+}
+
+HierarchicalPolicy::HierarchicalPolicy(const SkillLibrary& library, SelectorKind kind)
+    : library_(library),
+      kind_(kind),
+      policy_(library),
+      task_obs_(kTaskObsSize),
+      logits_(library.num_skills()),
+      policy_obs_(library.policy_obs_size()) {
+  if (kind == SelectorKind::kLearned) {
+    selector_.emplace(SelectorOf(library));
+  } else {
+    nearest_.emplace(library);
+  }
+}
+
+std::array<double, 3> HierarchicalPolicy::Clip(const double* command) const {
+  return selector_ ? ClipCommand(*library_.selector(), command) : nearest_->Clip(command);
+}
+
+int HierarchicalPolicy::Act(const float* motion_obs, const double* command, const float* previous_action,
+                            float* action) {
+  const int hold = selector_ ? library_.selector()->decision_interval : kNearestSkillHoldSteps;
+  if (held_skill_ < 0 || ticks_held_ >= hold) {
+    const std::array<double, 3> clipped = Clip(command);
+    if (selector_) {
+      BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
+      selector_->Run(task_obs_.data(), logits_.data());
+      held_skill_ = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
+    } else {
+      held_skill_ = nearest_->Choose(clipped.data());
+    }
+    ticks_held_ = 0;
+  }
+  ++ticks_held_;
+  BuildPolicyObservation(motion_obs, previous_action, held_skill_, library_.num_skills(), policy_obs_.data());
+  policy_.Act(policy_obs_.data(), action);
+  return held_skill_;
+}
+
+}  // namespace flsd

@@ -1,0 +1,52 @@
+#pragma once
+// A skill library driven by velocity commands: a selector chooses the skill, the skill policy
+// acts under it. The selector is the library's learned one, as the paper runs it (Sec. IV-C: the
+// most probable skill for (o^m, command), chosen every decision_interval control steps and held in
+// between), or the nearest-skill selector (nearest_skill.h), which any library can use.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "skills/runtime/nearest_skill.h"
+#include "skills/runtime/skill_library.h"
+
+namespace flsd {
+
+enum class SelectorKind { kLearned, kNearestSkill };
+const char* ToString(SelectorKind kind);  // "learned", "nearest_skill"
+// Throws InputError naming the accepted names.
+SelectorKind ParseSelectorKind(const std::string& name);
+
+class HierarchicalPolicy {
+ public:
+  // The nearest-skill selector holds each choice this many control steps (0.5 s), so that a
+  // command that wavers between two skills (a path follower's) does not switch them every tick.
+  static constexpr int kNearestSkillHoldSteps = 25;
+
+  // Throws InputError if `kind` is kLearned and the library has no selector. Holds a reference to
+  // `library`, which must outlive it. No heap allocation per step.
+  explicit HierarchicalPolicy(const SkillLibrary& library, SelectorKind kind = SelectorKind::kLearned);
+
+  // `command` (vx, vy, wz) is clipped first (Clip). Writes the 12 joint actions and returns the
+  // chosen skill.
+  int Act(const float* motion_obs, const double* command, const float* previous_action, float* action);
+  // Forgets the held skill: the next Act chooses afresh (a new task).
+  void Reset() { held_skill_ = -1; }
+  // The command as the selector sees it: within the learned selector's trained ranges, or within
+  // what the nearest-skill selector's candidates do.
+  std::array<double, 3> Clip(const double* command) const;
+  SelectorKind kind() const { return kind_; }
+
+ private:
+  const SkillLibrary& library_;
+  SelectorKind kind_;
+  std::optional<NetworkRunner> selector_;
+  std::optional<NearestSkillSelector> nearest_;
+  PolicyRunner policy_;
+  std::vector<float> task_obs_, logits_, policy_obs_;
+  int held_skill_ = -1, ticks_held_ = 0;
+};
+
+}  // namespace flsd

@@ -1,0 +1,60 @@
+#include "skills/runtime/nearest_skill.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "core/check.h"
+
+namespace flsd {
+namespace {
+
+constexpr int kSurvivalSteps = 500;  // the paper's survival bar
+
+bool Survives(const SkillDescriptor& d) {
+  const bool nominal = !d.fell && d.survival_steps >= kSurvivalSteps;
+  const bool randomized = !d.randomized_survival_steps ||
+                          (!d.randomized_fell && *d.randomized_survival_steps >= kSurvivalSteps);
+  return nominal && randomized;
+}
+
+}  // namespace
+
+NearestSkillSelector::NearestSkillSelector(const SkillLibrary& library) {
+  min_.setConstant(std::numeric_limits<double>::infinity());
+  max_.setConstant(-std::numeric_limits<double>::infinity());
+  for (const SkillDescriptor& d : library.skills()) {
+    if (!Survives(d)) continue;
+    const Eigen::Vector3d v(d.mean_linear_velocity.x(), d.mean_linear_velocity.y(), d.mean_angular_velocity.z());
+    candidates_.push_back(d.id);
+    velocity_.push_back(v);
+    min_ = min_.cwiseMin(v);
+    max_ = max_.cwiseMax(v);
+  }
+  if (candidates_.empty()) {
+    throw InputError(library.path() + ": no skill survived " + std::to_string(kSurvivalSteps) +
+                     " steps in its evaluation: the nearest-skill selector has nothing to choose from");
+  }
+}
+
+std::array<double, 3> NearestSkillSelector::Clip(const double* command) const {
+  std::array<double, 3> clipped;
+  for (int a = 0; a < 3; ++a) clipped[a] = std::clamp(command[a], min_[a], max_[a]);
+  return clipped;
+}
+
+int NearestSkillSelector::Choose(const double* command) const {
+  const Eigen::Vector3d weight(1.0, 1.0, kTurnWeight);
+  const Eigen::Vector3d c(command[0], command[1], command[2]);
+  int best = 0;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < candidates_.size(); ++i) {
+    const double distance = (velocity_[i] - c).cwiseProduct(weight).squaredNorm();
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = static_cast<int>(i);
+    }
+  }
+  return candidates_[best];
+}
+
+}  // namespace flsd

@@ -1,0 +1,37 @@
+#pragma once
+// The analytic skill selector: the skill whose measured mean velocity (its descriptor in the
+// library) is nearest the command. It needs no training, so it is the baseline any learned
+// selector must beat, and what skilld can serve for a library that ships no learned selector.
+
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+#include "skills/runtime/skill_library.h"
+
+namespace flsd {
+
+class NearestSkillSelector {
+ public:
+  // m/s that a yaw-rate difference of 1 rad/s counts as. Users (and the tracking evaluation)
+  // ask for walks of 0.5 m/s and turns of 1 rad/s: with 0.5, missing either counts the same.
+  static constexpr double kTurnWeight = 0.5;
+
+  // Chooses among the skills that survived their evaluation (and the randomised one, where the
+  // library records it). Throws InputError if no skill did.
+  explicit NearestSkillSelector(const SkillLibrary& library);
+
+  // The command clipped to what the candidates can do: each axis to their velocities' range.
+  std::array<double, 3> Clip(const double* command) const;
+  // The skill nearest `command` (vx, vy, wz), by |v_k - c| with yaw rate weighted by kTurnWeight.
+  int Choose(const double* command) const;
+  const std::vector<int>& candidates() const { return candidates_; }
+
+ private:
+  std::vector<int> candidates_;
+  std::vector<Eigen::Vector3d> velocity_;  // vx, vy, wz of each candidate
+  Eigen::Vector3d min_, max_;
+};
+
+}  // namespace flsd

@@ -1,0 +1,106 @@
+// The nearest-skill selector on a library of known descriptors: it chooses the surviving skill
+// nearest the command (yaw rate weighted), clips commands to what its candidates do, never
+// chooses a skill that fell, and under HierarchicalPolicy holds its choice for 0.5 s.
+
+#include "skills/runtime/nearest_skill.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "skills/learning/export.h"
+#include "skills/runtime/hierarchical_policy.h"
+#include "tests/common/test_support.h"
+
+namespace flsd {
+namespace {
+
+using ::testing::HasSubstr;
+
+struct Velocity {
+  double vx, vy, wz;
+};
+
+// A library whose skill k moves at velocities[k]; skills in `fallen` fell in the randomised
+// evaluation.
+std::string WriteLibrary(const std::vector<Velocity>& velocities, const std::vector<int>& fallen) {
+  TrainConfig config;
+  config.num_skills = static_cast<int>(velocities.size());
+  config.policy.actor_hidden = {8};
+  config.policy.critic_hidden = {8};
+  TrainedPolicy policy;
+  const int obs = PolicyObservationSize(config.num_skills);
+  policy.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
+  policy.normalizer = RunningNormalizer(kMotionObsSize + kActionSize);
+  Evaluation nominal, randomized;
+  for (int k = 0; k < config.num_skills; ++k) {
+    SkillSummary s;
+    s.skill = k;
+    s.survival_steps = 1000;
+    s.mean_linear_velocity = {velocities[k].vx, velocities[k].vy, 0.0};
+    s.mean_angular_velocity = {0.0, 0.0, velocities[k].wz};
+    nominal.skills.push_back(s);
+    s.fell = std::find(fallen.begin(), fallen.end(), k) != fallen.end();
+    randomized.skills.push_back(s);
+  }
+  const std::string path = testutil::UniqueTempPath("nearest.safetensors");
+  WriteSkillLibrary(path, config, policy, nominal, randomized, ExportProvenance{"run", "abc", "def"});
+  return path;
+}
+
+TEST(NearestSkillSelector, ChoosesTheSurvivingSkillNearestTheCommand) {
+  const std::string path = WriteLibrary(
+      {{0, 0, 0}, {0.5, 0, 0.1}, {-0.4, 0, 0}, {0, 0.45, 0}, {0.05, 0, 1.2}, {0, 0, -1.0}, {0.9, 0, 0}}, {6});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  const NearestSkillSelector selector(library);
+  EXPECT_EQ(selector.candidates(), (std::vector<int>{0, 1, 2, 3, 4, 5}));  // skill 6 fell
+  auto choose = [&](double vx, double vy, double wz) {
+    const double c[3] = {vx, vy, wz};
+    return selector.Choose(c);
+  };
+  EXPECT_EQ(choose(0, 0, 0), 0);
+  EXPECT_EQ(choose(0.5, 0, 0), 1);
+  EXPECT_EQ(choose(1.0, 0, 0), 1);  // the fallen 0.9 m/s skill is never chosen
+  EXPECT_EQ(choose(-0.5, 0, 0), 2);
+  EXPECT_EQ(choose(0, 0.5, 0), 3);
+  EXPECT_EQ(choose(0, 0, 1.0), 4);
+  EXPECT_EQ(choose(0, 0, -1.0), 5);
+  // Yaw rate counts half: (0.3, 0, 0.5) is nearer skill 1 (0.2 m/s and 0.4 rad/s off) than skill 0
+  // (0.3 and 0.5) or skill 4 (0.25 and 0.7).
+  EXPECT_EQ(choose(0.3, 0, 0.5), 1);
+  const double far[3] = {2.0, -3.0, 5.0};
+  const std::array<double, 3> clipped = selector.Clip(far);
+  EXPECT_EQ(clipped, (std::array<double, 3>{0.5, 0.0, 1.2}));
+  std::remove(path.c_str());
+}
+
+TEST(NearestSkillSelector, ALibraryWithoutSurvivorsIsRefused) {
+  const std::string path = WriteLibrary({{0, 0, 0}, {0.5, 0, 0}}, {0, 1});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  EXPECT_THAT(testutil::InputErrorMessage([&] { NearestSkillSelector selector(library); }),
+              HasSubstr("no skill survived 500 steps"));
+  std::remove(path.c_str());
+}
+
+TEST(NearestSkillSelector, ServesAHierarchicalPolicyWithoutALearnedSelectorAndHoldsItsChoice) {
+  const std::string path = WriteLibrary({{0, 0, 0}, {0.5, 0, 0}}, {});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  EXPECT_THAT(testutil::InputErrorMessage([&] { HierarchicalPolicy policy(library); }),
+              HasSubstr("has no skill selector"));
+  HierarchicalPolicy policy(library, SelectorKind::kNearestSkill);
+  std::vector<float> motion(kMotionObsSize, 0.0f), previous(kActionSize, 0.0f), action(kActionSize);
+  const double forward[3] = {0.5, 0, 0}, stand[3] = {0, 0, 0};
+  EXPECT_EQ(policy.Act(motion.data(), forward, previous.data(), action.data()), 1);
+  for (int t = 1; t < HierarchicalPolicy::kNearestSkillHoldSteps; ++t) {
+    EXPECT_EQ(policy.Act(motion.data(), stand, previous.data(), action.data()), 1) << t;
+  }
+  EXPECT_EQ(policy.Act(motion.data(), stand, previous.data(), action.data()), 0);
+  EXPECT_EQ(ParseSelectorKind("nearest_skill"), SelectorKind::kNearestSkill);
+  EXPECT_THAT(testutil::InputErrorMessage([] { ParseSelectorKind("oracle"); }),
+              HasSubstr("expected learned or nearest_skill"));
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace flsd

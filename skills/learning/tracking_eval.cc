@@ -20,6 +20,7 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
                                     double settle_seconds, uint64_t seed, SelectorKind selector) {
   EnvConfig config = env_config;
   config.randomization.DisableAll();
+  config.reset.standing_fraction = 1.0;  // from a stand, as skilld starts a velocity
   config.action_filter_hz = library.action_filter_hz();  // as skilld runs the skills
   config.action_filter_order = library.action_filter_order();
   const int steps = static_cast<int>(std::lround(seconds / a1::kControlDt));
@@ -65,8 +66,9 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
     }
     if (measured > 0) sum /= measured;
     r.achieved = {sum.x(), sum.y(), sum.z()};
-    r.lin_error = std::hypot(sum.x() - r.tracked.command[0], sum.y() - r.tracked.command[1]);
-    r.ang_error = std::abs(sum.z() - r.tracked.command[2]);
+    // Against what was asked: a selector that clips a command it cannot follow still misses it.
+    r.lin_error = std::hypot(sum.x() - c.command[0], sum.y() - c.command[1]);
+    r.ang_error = std::abs(sum.z() - c.command[2]);
     r.skills_used = static_cast<int>(used.size());
     r.switches_per_s = switches / (r.steps * a1::kControlDt);
     lin2 += r.lin_error * r.lin_error;

@@ -1,7 +1,7 @@
 #pragma once
-// How well a library's selector (learned or nearest-skill) and skills track velocity commands: each of a fixed set of
-// commands held for some seconds on the simulated A1 without randomisation, run exactly as skilld
-// runs it (HierarchicalPolicy, Eigen). Plain C++: no libtorch.
+// How well a library's selector (learned or nearest-skill) and skills track velocity commands:
+// each of a fixed set of commands held for some seconds on the simulated A1 without randomisation,
+// from a stand, run exactly as skilld runs it (HierarchicalPolicy, Eigen). Plain C++: no libtorch.
 
 #include <nlohmann/json.hpp>
 
@@ -24,7 +24,7 @@ std::vector<TrackingCase> StandardTrackingCases();
 struct TrackingResult {
   TrackingCase tracked;                  // the command after clipping to the trained ranges
   std::array<double, 3> achieved{};      // mean body velocity after the settling time
-  double lin_error = 0.0, ang_error = 0.0;  // |achieved - command| in xy, and in wz
+  double lin_error = 0.0, ang_error = 0.0;  // |achieved - asked| in xy, and in wz (before clipping)
   int steps = 0;                         // control steps run (fewer than asked if it fell)
   bool fell = false;
   int skills_used = 0;                   // distinct skills the selector chose

@@ -113,7 +113,23 @@ double Mean(const std::vector<double>& v) {
   return v.empty() ? NAN : sum / v.size();
 }
 
-// Per method, the mean over its runs of the headline numbers.
+// The sample standard deviation over runs (seeds); null for fewer than two.
+nlohmann::json SeedStd(const std::vector<double>& v) {
+  if (v.size() < 2) return nullptr;
+  const double mean = Mean(v);
+  double sq = 0.0;
+  for (double x : v) sq += (x - mean) * (x - mean);
+  return std::sqrt(sq / (v.size() - 1));
+}
+
+// "mean" or, over several runs, "mean ± std".
+std::string MeanAndSpread(const nlohmann::json& method, const char* key, double scale, int digits) {
+  const nlohmann::json& std = method[std::string(key) + "_std"];
+  const std::string mean = Fixed(scale * method[key].get<double>(), digits);
+  return std.is_null() ? mean : mean + " &plusmn; " + Fixed(scale * std.get<double>(), digits);
+}
+
+// Per method, the mean over its runs of the headline numbers, and their spread over the runs.
 nlohmann::json MethodJson(const std::vector<const ReportRun*>& runs) {
   std::vector<double> coverage, high, survivors, both, steps;
   for (const ReportRun* r : runs) {
@@ -125,7 +141,8 @@ nlohmann::json MethodJson(const std::vector<const ReportRun*>& runs) {
   }
   return {{"runs", runs.size()},          {"coverage_rate", Mean(coverage)},   {"high_frequency_ratio", Mean(high)},
           {"survivors", Mean(survivors)}, {"survivors_both", Mean(both)},      {"env_steps", Mean(steps)},
-          {"coverage_rate_per_run", coverage}, {"high_frequency_ratio_per_run", high}};
+          {"coverage_rate_per_run", coverage}, {"high_frequency_ratio_per_run", high},
+          {"coverage_rate_std", SeedStd(coverage)}, {"high_frequency_ratio_std", SeedStd(high)}};
 }
 
 std::string Svg(const std::string& dir, const std::string& name, const SvgPlot& plot) {
@@ -149,11 +166,11 @@ std::string AnswersHtml(const nlohmann::json& json) {
   std::ostringstream h;
   h << "<table>\n"
     << Row({"question", "FLSD", "DIAYN", "FLSD / DIAYN", "paper (FLSD, DIAYN, ratio)"}, true)
-    << Row({"state coverage rate (Table I)", Fixed(100 * f["coverage_rate"].get<double>(), 2) + " %",
-            Fixed(100 * d["coverage_rate"].get<double>(), 2) + " %", Fixed(c["coverage_ratio"].get<double>(), 2),
+    << Row({"state coverage rate (Table I)", MeanAndSpread(f, "coverage_rate", 100, 2) + " %",
+            MeanAndSpread(d, "coverage_rate", 100, 2) + " %", Fixed(c["coverage_ratio"].get<double>(), 2),
             "60.0 %, 25.7 %, 2.33"})
-    << Row({"high-frequency power ratio (Table II)", Fixed(f["high_frequency_ratio"].get<double>(), 3),
-            Fixed(d["high_frequency_ratio"].get<double>(), 3), Fixed(c["high_frequency_ratio"].get<double>(), 2) +
+    << Row({"high-frequency power ratio (Table II)", MeanAndSpread(f, "high_frequency_ratio", 1, 3),
+            MeanAndSpread(d, "high_frequency_ratio", 1, 3), Fixed(c["high_frequency_ratio"].get<double>(), 2) +
                 " (reduction " + Fixed(100 * c["high_frequency_reduction"].get<double>(), 0) + " %)",
             "199.75, 448.07, 0.45 (reduction 55 %; the text says 73 %)"})
     << Row({"skills surviving 500 steps", Fixed(f["survivors"].get<double>(), 1), Fixed(d["survivors"].get<double>(), 1),

@@ -88,6 +88,19 @@ TEST(SkillReport, ComparesFlsdWithDiaynAsRatiosOfTheMethodMeans) {
   EXPECT_DOUBLE_EQ(json["methods"]["diayn"]["survivors_both"].get<double>(), 1.0);
 }
 
+// Over seeds, each method's figures come with their spread: the sample standard deviation.
+TEST(SkillReport, GivesEachMethodsSpreadOverItsSeeds) {
+  std::vector<ReportRun> runs = TwoMethods();
+  EXPECT_TRUE(ReportJson(runs)["methods"]["flsd"]["coverage_rate_std"].is_null());  // one seed: none
+  ReportRun second = ::flsd::Run("flsd_s2", "flsd", {Moving(0, 600, 0.0, 0.0, 0.0, 2)}, {Moving(0, 600, 0.0, 0.0, 0.0, 2)});
+  runs.push_back(second);
+  const nlohmann::json flsd = ReportJson(runs)["methods"]["flsd"];
+  const double a = runs[0].nominal.coverage.rate, b = second.nominal.coverage.rate;
+  EXPECT_NEAR(flsd["coverage_rate"].get<double>(), (a + b) / 2, 1e-12);
+  EXPECT_NEAR(flsd["coverage_rate_std"].get<double>(), std::abs(a - b) / std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(flsd["coverage_rate_per_run"].size(), 2u);
+}
+
 TEST(SkillReport, CountsSurvivorsWithinTheJointSpeedLimit) {
   std::vector<ReportRun> runs = TwoMethods();
   EXPECT_EQ(ReportJson(runs)["runs"][0]["survivors_within_joint_speed_limit"].get<int>(), 3);

@@ -62,6 +62,12 @@ int SkillPairing::operator()(int skill) const {
   return skill < pairs_ ? skill + pairs_ : skill - pairs_;
 }
 
+SignedPermutation TaskObservation() {
+  SignedPermutation p = MotionObservation();
+  Append(p, VelocityCommand());
+  return p;
+}
+
 SignedPermutation PolicyObservation(const SkillPairing& pairing) {
   SignedPermutation p = MotionObservation();
   Append(p, Joints());  // previous action

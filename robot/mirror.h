@@ -54,6 +54,9 @@ class SkillPairing {
   int num_skills_, pairs_;
 };
 
+// o^c = [o^m, velocity command] (robot/observation.h).
+SignedPermutation TaskObservation();
+
 // o^p = [o^m, previous action, one-hot skill]: the skill's one-hot moves to its mirror image.
 SignedPermutation PolicyObservation(const SkillPairing& pairing);
 

@@ -6,9 +6,11 @@
 
 #include "core/atomic_file.h"
 #include "core/check.h"
+#include "robot/mirror.h"
 #include "robot/observation.h"
 #include "skills/learning/checkpoint_io.h"
 #include "skills/learning/run_loop.h"
+#include "skills/learning/symmetry.h"
 #include "skills/learning/training_run.h"
 
 namespace flsd {
@@ -110,6 +112,7 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
   rollout_.dones = torch::zeros({t, n}, f);
   rollout_.timeouts = torch::zeros({t, n}, f);
   raw_obs_ = torch::zeros({n, obs_size_}, f);
+  if (config.mirror) raw_rollout_obs_ = torch::zeros({t, n, obs_size_}, f);
 }
 
 torch::Tensor TaskTrainer::Observations(bool update_normalizer) {
@@ -155,6 +158,7 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
     const torch::Tensor distribution = policy_->Distribution(obs);
     const torch::Tensor action = policy_->Sample(distribution);
     rollout_.obs[t].copy_(obs);
+    if (raw_rollout_obs_.defined()) raw_rollout_obs_[t].copy_(raw_obs_);
     rollout_.actions[t].copy_(action);
     rollout_.distributions[t].copy_(distribution);
     rollout_.log_probs[t].copy_(policy_->LogProb(distribution, action));
@@ -232,13 +236,45 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
   stats.switches_per_s = switches / (samples * a1::kControlDt);
 }
 
+MirroredSamples TaskTrainer::MirroredRollout() const {
+  torch::NoGradGuard no_grad;
+  mirror::SignedPermutation obs = mirror::TaskObservation();
+  if (method_ == TaskMethod::kScratch) {  // o^c and the previous joint action
+    const mirror::SignedPermutation joints = mirror::Joints();
+    for (int j = 0; j < joints.size(); ++j) {
+      obs.source.push_back(kTaskObsSize + joints.source[j]);
+      obs.sign.push_back(joints.sign[j]);
+    }
+  }
+  const int64_t count = raw_rollout_obs_.size(0) * raw_rollout_obs_.size(1);
+  MirroredSamples m;
+  m.obs = normalizer_->Normalize(MirrorAlong(obs, raw_rollout_obs_.view({count, obs_size_}), 1));
+  m.critic_obs = m.obs;  // the critic sees what the actor sees
+  const torch::Tensor actions = rollout_.actions.view({count, -1});
+  if (method_ == TaskMethod::kScratch) {
+    m.actions = MirrorAlong(mirror::Joints(), actions, 1);
+  } else {
+    std::vector<int64_t> pairs;
+    for (const SkillDescriptor& d : library_->skills()) pairs.push_back(d.mirror_skill);
+    const torch::Tensor chosen = actions.squeeze(1).to(torch::kLong);
+    m.actions = torch::tensor(pairs, torch::kLong).index_select(0, chosen).to(torch::kFloat32).unsqueeze(1);
+  }
+  return m;
+}
+
 TaskIterationStats TaskTrainer::RunIteration() {
   TaskIterationStats stats;
   const Clock::time_point start = Clock::now();
   Collect(stats);
   stats.seconds_collect = Since(start);
   const Clock::time_point phase = Clock::now();
-  stats.ppo = ppo_.Update(rollout_, ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda));
+  const Returns returns = ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda);
+  if (config_.mirror) {
+    const MirroredSamples mirrored = MirroredRollout();
+    stats.ppo = ppo_.Update(rollout_, returns, &mirrored);
+  } else {
+    stats.ppo = ppo_.Update(rollout_, returns);
+  }
   stats.seconds_ppo = Since(phase);
   ++iteration_;
   env_steps_ += static_cast<long>(steps_) * num_envs_ * config_.decision_interval;
@@ -342,6 +378,15 @@ std::string TaskProgressLine(const TaskIterationStats& s, int total_iterations, 
 
 // ---- the run ----
 
+std::array<Interval, 3> CommandEnvelope(const SkillLibrary& library, double widen) {
+  const NearestSkillSelector skills(library);  // its candidates: the surviving skills
+  std::array<Interval, 3> envelope;
+  for (int a = 0; a < 3; ++a) {
+    envelope[a] = {widen * std::min(0.0, skills.velocity_min()[a]), widen * std::max(0.0, skills.velocity_max()[a])};
+  }
+  return envelope;
+}
+
 int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop_requested) {
   const RunFolder folder = OpenRunFolder(options.run_dir, options.resume);
   TaskTrainConfig config = LoadTaskTrainConfig(options.resume ? folder.config_file : options.config_path);
@@ -358,6 +403,13 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
     const SkillLibrary library = SkillLibrary::Load(config.library);
     config.env.action_filter_hz = library.action_filter_hz();
     config.env.action_filter_order = library.action_filter_order();
+    VelocityCommandConfig& commands = config.task.commands;
+    if (commands.library_envelope > 0.0) {
+      const std::array<Interval, 3> envelope = CommandEnvelope(library, commands.library_envelope);
+      commands.vx = envelope[0];
+      commands.vy = envelope[1];
+      commands.wz = envelope[2];
+    }
   }
   RecordRunStart(folder, ToYamlString(config), options.resume);
   ConfigureTorchThreads(config.num_threads);

@@ -4,6 +4,7 @@
 // Fig. 8) or as a joint-level policy trained from scratch (Fig. 8's "Scratch"). Both run on the
 // same VelocityTask, reward and PPO; only the action space differs.
 
+#include <array>
 #include <atomic>
 #include <memory>
 #include <optional>
@@ -14,6 +15,7 @@
 #include "skills/learning/normalizer.h"
 #include "skills/learning/ppo.h"
 #include "skills/learning/velocity_task.h"
+#include "skills/runtime/nearest_skill.h"
 #include "skills/runtime/skill_library.h"
 
 namespace flsd {
@@ -35,6 +37,9 @@ struct TaskTrainConfig {
   // the paper's. Without it the selector changes skill ~40 times a second and the switches drive
   // joints past the A1's speed limit. 0 turns it off.
   double switch_penalty = 0.0;
+  // Train on every rollout's left-right mirror image too (robot/mirror.h): o^c mirrored, the
+  // chosen skill's mirror image (the library's pairing) or the mirrored joint action.
+  bool mirror = false;
   int iterations = 500;
   int checkpoint_every = 25;
   EnvConfig env;
@@ -51,6 +56,7 @@ struct TaskTrainConfig {
     v("steps_per_env", steps_per_env, Bounds<int>{1, 100000});
     v("decision_interval", decision_interval, Bounds<int>{1, 1000});
     v("switch_penalty", switch_penalty, Bounds<double>{-1e3, 0.0});
+    v("mirror", mirror);
     v("iterations", iterations, Bounds<int>{1, 100000000});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("env", env);
@@ -120,6 +126,7 @@ class TaskTrainer {
   void Collect(TaskIterationStats& stats);
   torch::Tensor Observations(bool update_normalizer);
   void JointActions(const torch::Tensor& policy_action);
+  MirroredSamples MirroredRollout() const;
 
   TaskTrainConfig config_;
   TaskMethod method_;
@@ -143,9 +150,14 @@ class TaskTrainer {
 
   Rollout rollout_;
   torch::Tensor raw_obs_, last_values_;
+  torch::Tensor raw_rollout_obs_;  // [T, N, obs] unnormalised, with mirror
   int iteration_ = 0;
   long env_steps_ = 0;
 };
+
+// Per axis (vx, vy, wz), the range of the velocities of the library's surviving skills, with 0
+// in it, times `widen`: the commands a selector over them can follow.
+std::array<Interval, 3> CommandEnvelope(const SkillLibrary& library, double widen);
 
 struct TaskRunOptions {
   std::string config_path;  // a new run's config; ignored on resume

@@ -6,6 +6,8 @@
 namespace flsd {
 
 Eigen::Vector3d SampleVelocityCommand(Rng& rng, const VelocityCommandConfig& config) {
+  // Drawn only when asked for, so that configs without zero commands keep their random streams.
+  if (config.zero_share > 0.0 && Uniform(rng, 0.0, 1.0) < config.zero_share) return Eigen::Vector3d::Zero();
   Eigen::Vector3d command(Uniform(rng, config.vx.lo, config.vx.hi), Uniform(rng, config.vy.lo, config.vy.hi),
                           Uniform(rng, config.wz.lo, config.wz.hi));
   if (command.head<2>().norm() < config.min_planar_speed) command.head<2>().setZero();

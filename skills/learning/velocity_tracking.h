@@ -21,6 +21,10 @@ struct VelocityCommandConfig {
   Interval wz{-1.0, 1.0};  // rad/s
   double resampling_s = 10.0;
   double min_planar_speed = 0.2;  // commands slower than this in xy are zeroed
+  double zero_share = 0.0;        // share of commands that are "stand still"
+  // A new selector run sets vx, vy and wz to the range of its library's surviving skills'
+  // velocities, widened by this factor (0: keep the ranges given): commands it can follow.
+  double library_envelope = 0.0;
   template <class V>
   void Visit(V& v) {
     v("vx", vx, Bounds<double>{-5.0, 5.0});
@@ -28,10 +32,13 @@ struct VelocityCommandConfig {
     v("wz", wz, Bounds<double>{-10.0, 10.0});
     v("resampling_s", resampling_s, Bounds<double>{0.02, 3600.0});
     v("min_planar_speed", min_planar_speed, Bounds<double>{0.0, 5.0});
+    v("zero_share", zero_share, Bounds<double>{0.0, 1.0});
+    v("library_envelope", library_envelope, Bounds<double>{0.0, 10.0});
   }
 };
 
-// (vx, vy, wz), each uniform in its range, xy zeroed below min_planar_speed.
+// (vx, vy, wz), each uniform in its range, xy zeroed below min_planar_speed; zero with
+// probability zero_share.
 Eigen::Vector3d SampleVelocityCommand(Rng& rng, const VelocityCommandConfig& config);
 
 // Calls f(name, a.term, b.term) for every reward term (not the total) of a and b, which may be

@@ -27,6 +27,9 @@ class NearestSkillSelector {
   // The skill nearest `command` (vx, vy, wz), by |v_k - c| with yaw rate weighted by kTurnWeight.
   int Choose(const double* command) const;
   const std::vector<int>& candidates() const { return candidates_; }
+  // The range of the candidates' (vx, vy, wz), per axis.
+  const Eigen::Vector3d& velocity_min() const { return min_; }
+  const Eigen::Vector3d& velocity_max() const { return max_; }
 
  private:
   std::vector<int> candidates_;

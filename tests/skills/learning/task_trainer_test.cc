@@ -102,6 +102,40 @@ TEST_F(TaskTraining, SelectorAndScratchRunsTrainResumeAndLogEveryIteration) {
   EXPECT_TRUE(fs::exists(Path("scratch/checkpoint.pt")));
 }
 
+// A selector trained on its rollouts' mirror images too, over commands drawn from what its
+// library's skills do: the run records the envelope it drew from, and the scratch policy mirrors
+// its joint actions the same way.
+TEST_F(TaskTraining, MirroredRunsOverTheLibrarysEnvelopeTrain) {
+  config_.mirror = true;
+  config_.task.commands.library_envelope = 1.1;
+  config_.task.commands.zero_share = 0.2;
+  ASSERT_EQ(Train("mirrored", 2), 0);
+  const TaskTrainConfig saved = LoadTaskTrainConfig(Path("mirrored/config.yaml"));
+  const std::array<Interval, 3> envelope = CommandEnvelope(SkillLibrary::Load(library_), 1.1);
+  EXPECT_EQ(saved.task.commands.vx, envelope[0]);
+  EXPECT_EQ(saved.task.commands.wz, envelope[2]);
+  config_.method = "scratch";
+  ASSERT_EQ(Train("mirrored_scratch", 2), 0);
+}
+
+TEST(VelocityTask, TheEnvelopeSpansTheSurvivingSkillsAndStill) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
+  const std::array<Interval, 3> envelope = CommandEnvelope(library, 1.0);
+  double vx_min = 0.0, vx_max = 0.0;
+  for (const SkillDescriptor& d : library.skills()) {
+    if (d.fell || d.survival_steps < 500) continue;
+    vx_min = std::min(vx_min, d.mean_linear_velocity.x());
+    vx_max = std::max(vx_max, d.mean_linear_velocity.x());
+  }
+  EXPECT_DOUBLE_EQ(envelope[0].lo, vx_min);
+  EXPECT_DOUBLE_EQ(envelope[0].hi, vx_max);
+  EXPECT_DOUBLE_EQ(CommandEnvelope(library, 1.5)[0].hi, 1.5 * vx_max);
+  VelocityCommandConfig all_zero;
+  all_zero.zero_share = 1.0;
+  Rng rng(3);
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(SampleVelocityCommand(rng, all_zero), Eigen::Vector3d::Zero());
+}
+
 TEST_F(TaskTraining, ASelectorIsNeverResumedOrExportedOverAChangedLibrary) {
   ASSERT_EQ(Train("selector", 1), 0);
   // Another library in the same place: one skill descriptor differs.

@@ -2,8 +2,8 @@
 // The Unitree A1's low-level UDP protocol (unitree_legged_sdk v3.2/v3.3), written from the wire
 // format, with no vendor code. The SDK's C++ structs are NOT what travels: on the wire a command
 // is 610 bytes (tau, Kp, Kd as int16 fixed point) and a state 771 bytes (ddq, tauEst, ddq_raw as
-// int16), packed, little-endian, ending in a word-wise CRC-32. Offsets and scales:
-// ../shared/facts/hw_and_dds_facts.md section 1.3, each pinned by tests/hw/a1_protocol_test.cc.
+// int16), packed, little-endian, ending in a word-wise CRC-32. Offsets and scales are those of
+// the SDK's compiled library, each pinned by tests/hw/a1_protocol_test.cc.
 
 #include <array>
 #include <cstddef>

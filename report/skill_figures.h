@@ -45,7 +45,8 @@ SvgPlot CoverageFigure(const Evaluation& evaluation, const std::string& title);
 SvgPlot PsdFigure(const PsdBands& bands, const std::string& title, double y_lo, double y_hi);
 SvgPlot EmbeddingFigure(const Embedding& embedding, const std::vector<std::string>& labels, int num_skills);
 // Mean velocity of every skill that survived 500 steps, one colour per evaluation: x against
-// (axis 1) lateral velocity or (axis 2) yaw rate, with the thresholds (0.3 m/s, 0.5 rad/s).
+// (axis 1) lateral velocity or (axis 2) yaw rate, with the direction bar's thresholds (0.3 m/s,
+// 0.5 rad/s).
 SvgPlot MeanVelocityFigure(const std::vector<const Evaluation*>& evaluations, const std::vector<std::string>& labels,
                            int axis);
 

@@ -23,7 +23,7 @@ struct ReportRun {
   Evaluation randomized;     // the training randomisation on
 };
 
-// How many skills move each way the bar names, among those that survive 500 steps:
+// How many skills move each way the direction bar names, among those that survive 500 steps:
 // forward / backward (v_x >= / <= +-0.3 m/s), sideways (|v_y| >= 0.3 m/s), turning (|w_z| >= 0.5 rad/s).
 struct DirectionCounts {
   int forward = 0, backward = 0, sideways = 0, turning = 0;

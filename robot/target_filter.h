@@ -4,7 +4,7 @@
 // (Controller) both run this class, with the cutoff and order the skill library records.
 //
 // Why: a PD motor fed a new target every 20 ms can be made to buzz at 10-25 Hz, and a buzzing
-// robot creeps across the floor without stepping (docs, "Training runs"). Filtering the targets
+// robot creeps across the floor without stepping (docs/experiments.md). Filtering the targets
 // takes that band away from the motors, as Peng et al. 2020 did for the Laikago.
 //
 // Order 1 is the exponential filter y += (1 - exp(-2 pi fc dt)) (x - y). Order 2 is a

@@ -31,7 +31,7 @@ status=0
 for k in $fastest; do
   # Each skill from a standing start at rest, as the library's evaluation ran it. The simulated
   # robot is reset first: a skill that turns fast can leave the robot tipping as the stand takes
-  # over (README, "The skill selector"), and no skill was trained to take over mid-stride.
+  # over (docs/selector.md), and no skill was trained to take over mid-stride.
   "${ctl[@]}" reset >/dev/null
   "${ctl[@]}" stand >/dev/null
   echo "== skill $k for 4 s"

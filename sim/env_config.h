@@ -1,6 +1,6 @@
 #pragma once
 // Configuration of the simulated A1 environment. Each field is read from YAML (see core/config.h);
-// the defaults are legged_gym's where it has one (cited in shared/facts), and the reason is given
+// the defaults are legged_gym's where it has one (its A1 config), and the reason is given
 // where it has none.
 
 #include <string>
@@ -87,7 +87,7 @@ struct ResetConfig {
 
 struct TerminationConfig {
   // A fall: any trunk, hip or thigh geom touching the floor (legged_gym ends on base contact;
-  // the issue adds thighs). Calf contact is a knee strike and counted, but does not end it.
+  // we add thighs). Calf contact is a knee strike and counted, but does not end it.
   bool on_calf_contact = false;
   double max_tilt = 1.2;          // rad between the body z axis and the world z axis
   double min_base_height = 0.08;  // m; the paper's skills reach 0.09 m (Table I)

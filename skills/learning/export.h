@@ -1,6 +1,6 @@
 #pragma once
-// `flsd export`: a run's policy as a self-describing skill library (DESIGN.md, "The skill library
-// file"): one safetensors file whose tensors are the policy's layers and its observation
+// `flsd export`: a run's policy as a self-describing skill library (docs/training.md, "Export"):
+// one safetensors file whose tensors are the policy's layers and its observation
 // normaliser, and whose metadata says everything needed to run it safely.
 
 #include <nlohmann/json.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// Proximal Policy Optimisation as rsl_rl v1.0.2 does it (shared/facts, Sec. 2): clipped
+// Proximal Policy Optimisation as rsl_rl v1.0.2 does it (rsl_rl/algorithms/ppo.py): clipped
 // surrogate, clipped value loss, entropy bonus, GAE(lambda) with a time-out bootstrap,
 // advantages normalised over the whole batch, gradient-norm clipping, and a learning rate adapted
 // from the KL divergence between the collecting and the updated policy.

@@ -20,7 +20,7 @@ Method ParseMethod(const std::string& name);  // "flsd" or "diayn"; throws Input
 const char* ToString(Method m);
 
 // Smoothness penalties added to the intrinsic reward, legged_gym's terms and units (each scale x
-// term x dt; shared/facts "Rewards"). The paper uses none; without them the skills found on two
+// term x dt; legged_gym's reward scales). The paper uses none; without them the skills found on two
 // cores chatter (actions flipping sign every 20 ms, feet tapping at ~19 Hz), which a downstream
 // task's own smoothness terms then punish. ETH D3 adds such regularisation penalties to its
 // skill discovery too. Zero turns a term off.

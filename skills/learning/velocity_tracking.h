@@ -1,9 +1,9 @@
 #pragma once
-// legged_gym's velocity-tracking task, the reward that the skill selector (issue 6) and the
+// legged_gym's velocity-tracking task, the reward that the skill selector (Sec. IV-C) and the
 // from-scratch baseline of the paper's Fig. 8 are trained on: velocity commands drawn from fixed
 // ranges and resampled, and the reward terms and scales of legged_gym's A1 configuration
-// (../shared/facts/a1_and_learning_facts.md, "Rewards" and "Commands"). Each term is scaled by
-// dt and the total is clipped at zero (only_positive_rewards), as in legged_gym.
+// (legged_gym's a1_config.py and legged_robot_config.py, rewards and commands). Each term is
+// scaled by dt and the total is clipped at zero (only_positive_rewards), as in legged_gym.
 
 #include <Eigen/Core>
 

@@ -39,7 +39,7 @@ TEST_F(SkillctlTest, AScriptedSessionGetsTheExitCodesItExpects) {
   EXPECT_THAT(out, HasSubstr("skill 99 is not in [0, "));
 
   // The task runs to an outcome: done (0), or stopped by the supervisor (4), which this
-  // library's selector can provoke (see the README); never a hang or a refusal.
+  // library's selector can provoke (see docs/selector.md); never a hang or a refusal.
   std::tie(code, out) = Skillctl({"vel", "0.5", "0", "0", "--duration", "1"});
   EXPECT_TRUE(code == 0 || code == 4) << out;
   EXPECT_THAT(out, ::testing::AnyOf(HasSubstr("track_velocity succeeded"), HasSubstr("track_velocity safety stop")));

@@ -239,7 +239,7 @@ TEST_F(ControllerTest, VelocityModeRunsTheSelectorsSkillsForItsDuration) {
   StandUp();
   // Standing still: what the shipped selector does calmly. Walking backward it picks a new skill
   // ~40 times a second, and within 2 s a calf exceeds 21 rad/s and the supervisor stops it
-  // (README, "The skill selector"), which would test the selector, not the controller.
+  // (docs/selector.md), which would test the selector, not the controller.
   ASSERT_TRUE(controller_.Submit(VelocityRequest(0.0, 0.0, 2.0)));
   std::set<int> chosen;
   int in_velocity = 0;

@@ -119,9 +119,11 @@ struct EnvConfig {
   // simulated joints reached 24-56 rad/s in training, past what the A1's motors can turn and what
   // skilld's supervisor allows. Runs trained before it existed had it off.
   bool torque_speed_limit = true;
-  // rad/s up to which the motors keep their full torque on that line. Runs trained before it
-  // existed had 0, a line falling from rest, which left 18 N m of 33.5 at a stepping leg's 9.5 rad/s.
-  double torque_speed_knee = a1::kTorqueSpeedKnee;
+  // rad/s up to which the motors keep their full torque on that line; 0 is a line falling from
+  // rest, which leaves 18 N m of 33.5 at a stepping leg's 9.5 rad/s. a1::kTorqueSpeedKnee is
+  // Unitree's motor shape (configs/flsd_cpu_symmetric.yaml). 0 by default: the shipped library
+  // trained with the line, and skilld's simulated A1 must be the one its skills were trained on.
+  double torque_speed_knee = 0.0;
   // Order of the target filter below: 1 (exponential) or 2 (Butterworth).
   int action_filter_order = 1;
   // Hz; 0 is off. The cutoff of the low-pass filter between a policy's joint targets and the

@@ -104,7 +104,6 @@ EnvConfig TrainingEnvOf(const SkillLibrary& library) {
   const YAML::Node config = YAML::Load(training.at("config").get<std::string>());
   EnvConfig env;
   if (config["env"]) ReadConfig(config["env"], library.path() + ": training config: env.", env);
-  if (!config["env"] || !config["env"]["torque_speed_knee"]) env.torque_speed_knee = 0.0;
   return env;
 }
 

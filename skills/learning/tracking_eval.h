@@ -46,8 +46,7 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
 nlohmann::json TrackingJson(const TrackingEvaluation& evaluation);
 
 // The simulated A1 a library's skills were trained on (its metadata's training config), for
-// evaluating them as they were trained. Libraries from before the motors' torque knee trained
-// with the line from rest.
+// evaluating them as they were trained.
 EnvConfig TrainingEnvOf(const SkillLibrary& library);
 
 // `flsd track`: the eight commands with the library's learned selector (where it has one) and

@@ -35,7 +35,7 @@ SkillLibrary ShippedLibrary() { return SkillLibrary::Load(ResolveDataPath("model
 Errors Walk(int skill, double seconds, const EstimatorConfig& estimator_config = EstimatorConfig{}) {
   const SkillLibrary library = ShippedLibrary();
   PolicyRunner policy(library);
-  TargetFilter filter(library.action_filter_hz());
+  TargetFilter filter(library.action_filter_hz(), library.action_filter_order());
   EnvConfig config;
   config.randomization.DisableAll();
   config.reset.joint_pos_scale = {1.0, 1.0};

@@ -1,6 +1,8 @@
 #pragma once
 #include <Eigen/Geometry>
 
+#include <cmath>
+
 #include "robot/a1.h"
 
 namespace flsd {
@@ -21,6 +23,11 @@ struct RobotState {
   // Gravity direction (0, 0, -1) seen in the body frame.
   Eigen::Vector3d ProjectedGravity() const {
     return base_orientation.conjugate() * Eigen::Vector3d(0.0, 0.0, -1.0);
+  }
+  // Heading (rad): the rotation about the world z axis of the body's x axis.
+  double Yaw() const {
+    const Eigen::Quaterniond& q = base_orientation;
+    return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
   }
 };
 

@@ -36,7 +36,6 @@ const TrainConfig& CheckedAndSeeded(const TrainConfig& config) {
   return config;
 }
 
-
 bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
 
 // This rank's share of the envs; every rank must hold as many.
@@ -151,7 +150,10 @@ void Trainer::DrawSkill(int i) {
   Rng& rng = skill_rng_[i];
   skill_[i] = std::uniform_int_distribution<int>(0, config_.num_skills - 1)(rng);
   const SkillSwitchConfig& s = config_.skill_switch;
-  if (s.enabled()) steps_to_switch_[i] = std::max(1, static_cast<int>(std::lround(Uniform(rng, s.interval_s.lo, s.interval_s.hi) / a1::kControlDt)));
+  if (s.enabled()) {
+    const double seconds = Uniform(rng, s.interval_s.lo, s.interval_s.hi);
+    steps_to_switch_[i] = std::max(1, static_cast<int>(std::lround(seconds / a1::kControlDt)));
+  }
 }
 
 torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
@@ -289,9 +291,7 @@ void Trainer::AfterStep(int t, const float* actions) {
           if (skill_[i] != before) {
             // The new skill's q starts from where, and the way, the robot now is.
             const RobotState& s = vec_.env(i).state();
-            const Eigen::Quaterniond& q = s.base_orientation;
-            const double yaw = std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
-            skill_origin_[i] = {s.base_position.x(), s.base_position.y(), yaw};
+            skill_origin_[i] = {s.base_position.x(), s.base_position.y(), s.Yaw()};
             steps_since_switch_[i] = 0;
           }
         }

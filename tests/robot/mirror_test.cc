@@ -108,7 +108,7 @@ TEST(Mirror, SkillsPairAsDocumentedAndTheOneHotFollows) {
 
 // ---- the model ----
 
-// Puts `env` in `state`'s pose and velocities, as the robot's mirror image when `mirrored`.
+// Puts `env` in `state`'s pose and velocities.
 void Place(Env& env, const RobotState& state) {
   mjData& d = env.data();
   const A1ModelIndex& index = env.index();
@@ -165,10 +165,9 @@ MirrorError MirrorRolloutError(const mjModel& model, int steps) {
   }
   const RobotState expected = Mirrored(original.state());
   const RobotState& got = image.state();
-  auto yaw = [](const Eigen::Quaterniond& q) { return std::atan2(2 * (q.w() * q.z() + q.x() * q.y()), 1 - 2 * (q.y() * q.y() + q.z() * q.z())); };
   MirrorError e;
   e.position = (got.base_position - expected.base_position).norm();
-  e.yaw = std::abs(std::remainder(yaw(got.base_orientation) - yaw(expected.base_orientation), 2 * M_PI));
+  e.yaw = std::abs(std::remainder(got.Yaw() - expected.Yaw(), 2 * M_PI));
   for (int j = 0; j < a1::kNumJoints; ++j) {
     e.joint = std::max(e.joint, std::abs(got.joint_position[j] - expected.joint_position[j]));
   }

@@ -146,6 +146,9 @@ int main(int argc, char** argv) {
   app.add_option("--partition", options.partition, "DDS partition");
   app.add_option("--timeout", timeout_s, "Seconds to wait for the server")->check(CLI::Range(0.1, 600.0));
   app.add_flag("--quiet", quiet, "Print only the outcome of a motion");
+  app.add_option("--id", options.client_id,
+                 "Client id (default: host-pid-random); give damp and clear the same one to clear at once")
+      ->check([](const std::string& id) { return id.size() < 64 ? std::string() : std::string("at most 63 characters"); });
 
   flsd::CallArgs args;
   double watch_seconds = 0.0;
@@ -169,7 +172,8 @@ int main(int argc, char** argv) {
   go->add_option("--picture", picture, "Write the planned and walked paths to this SVG");
   app.add_subcommand("stop", "End the current motion; the robot stands");
   app.add_subcommand("stand", "Stand in the default pose (clears a safety stop once upright)");
-  app.add_subcommand("damp", "Emergency stop: damp all joints (any client may)");
+  app.add_subcommand("damp", "Emergency stop: damp all joints (any client may); it latches until cleared");
+  app.add_subcommand("clear", "Clear an emergency stop (whoever pressed it, or anyone after the hold time); then stand");
   app.add_subcommand("reset", "Put the simulated robot back on its feet");
   CLI::App* watch = app.add_subcommand("watch", "Print the robot's state as it changes");
   watch->add_option("--seconds", watch_seconds, "Stop after this long (0: until Ctrl-C)");
@@ -215,6 +219,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (command == "status" || command == "damp") return Report(client.Call(command));
+    if (command == "clear") return Report(client.Call("clear_stop"));
     if (command == "bench") {
       std::printf("%s\n", flsd::RunDdsBenchmark(client, options.domain_id, bench_options).dump(2).c_str());
       return 0;

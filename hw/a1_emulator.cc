@@ -35,7 +35,9 @@ void A1Emulator::Stop() {
 
 void A1Emulator::SetFaults(const EmulatorFaults& faults) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (faults.frozen_sensors && !faults_.frozen_sensors) frozen_state_ = state_;
+  if ((faults.frozen_imu && !faults_.frozen_imu) || (faults.frozen_joints && !faults_.frozen_joints)) {
+    frozen_state_ = state_;
+  }
   faults_ = faults;
 }
 
@@ -127,16 +129,16 @@ LowState MakeSensorFrame(const RobotState& s, const Eigen::Vector3d& specific_fo
 }
 
 LowState A1Emulator::MakeState(Rng& rng) {
-  if (!faults_.frozen_sensors) {
-    LowState out = MakeSensorFrame(state_, specific_force_, config_.gyro_noise, config_.accelerometer_noise, rng);
-    if (faults_.dead_motor >= 0) out.motors[faults_.dead_motor].mode = kModeDamping;
-    return out;
+  LowState out = MakeSensorFrame(state_, specific_force_, config_.gyro_noise, config_.accelerometer_noise, rng);
+  if (faults_.frozen_imu || faults_.frozen_joints) {
+    // A hung sensor: the same readings, noise and all, frame after frame, while the rest runs on.
+    Rng frozen_rng(StreamSeed(config_.seed, 1));
+    const LowState frozen = MakeSensorFrame(frozen_state_, Eigen::Vector3d(0.0, 0.0, kGravity), config_.gyro_noise,
+                                            config_.accelerometer_noise, frozen_rng);
+    if (faults_.frozen_imu) out.imu = frozen.imu;
+    for (int j = 0; faults_.frozen_joints && j < a1::kNumJoints; ++j) out.motors[j] = frozen.motors[j];
   }
-  // A hung sensor bus: the same readings, noise and all, frame after frame; only the clock runs.
-  Rng frozen_rng(StreamSeed(config_.seed, 1));
-  LowState out = MakeSensorFrame(frozen_state_, Eigen::Vector3d(0.0, 0.0, kGravity), config_.gyro_noise,
-                                 config_.accelerometer_noise, frozen_rng);
-  out.tick = static_cast<uint32_t>(std::llround(state_.time * 1e6));
+  if (faults_.dead_motor >= 0) out.motors[faults_.dead_motor].mode = kModeDamping;
   return out;
 }
 

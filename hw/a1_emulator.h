@@ -20,7 +20,8 @@ struct EmulatorFaults {
   double drop_fraction = 0.0;     // of state frames never sent
   double corrupt_fraction = 0.0;  // of state frames sent with a broken CRC
   double late_ms = 0.0;           // every state frame is sent this long after its command came
-  bool frozen_sensors = false;    // IMU and joint readings stop changing (a hung sensor bus)
+  bool frozen_imu = false;        // IMU readings stop changing (a hung IMU)
+  bool frozen_joints = false;     // joint encoder readings stop changing (a hung motor bus)
   int dead_motor = -1;            // this joint's motor produces no torque and reports mode 0
   bool silent = false;            // no state frames at all (a pulled cable)
 };

@@ -16,17 +16,33 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-// Bit-identical IMU and joint readings: a real sensor's noise never repeats frame after frame.
-bool SameReadings(const LowState& a, const LowState& b) {
-  if (a.imu.quaternion != b.imu.quaternion || a.imu.gyroscope != b.imu.gyroscope ||
-      a.imu.accelerometer != b.imu.accelerometer) {
-    return false;
-  }
+// Bit-identical IMU readings: a real IMU's noise never repeats frame after frame.
+bool SameImu(const LowState& a, const LowState& b) {
+  return a.imu.quaternion == b.imu.quaternion && a.imu.gyroscope == b.imu.gyroscope &&
+         a.imu.accelerometer == b.imu.accelerometer;
+}
+
+// Bit-identical joint encoder readings.
+bool SameJoints(const LowState& a, const LowState& b) {
   for (int j = 0; j < a1::kNumJoints; ++j) {
     if (a.motors[j].q != b.motors[j].q || a.motors[j].dq != b.motors[j].dq) return false;
   }
   return true;
 }
+
+// How long a sensor's readings have repeated: each sensor is judged on its own, so that a hung
+// IMU is caught while the encoders still move (a fall would otherwise go unseen).
+struct FreezeTimer {
+  bool frozen = false;
+  std::chrono::steady_clock::time_point since;
+  void Update(bool same, std::chrono::steady_clock::time_point now) {
+    if (same && !frozen) since = now;
+    frozen = same;
+  }
+  bool Outlasts(double seconds, std::chrono::steady_clock::time_point now) const {
+    return frozen && std::chrono::duration<double>(now - since).count() > seconds;
+  }
+};
 
 // A frame whose CRC passed can still carry garbage: non-finite numbers, or an attitude that is
 // not a rotation. Such a frame is counted and not used.
@@ -85,7 +101,13 @@ std::string HwBackend::Fault() const {
     case FaultCode::kStale:
       std::snprintf(text, sizeof text, "no valid state frame from the robot for %.0f ms", since_valid_.load() * 1e3);
       break;
-    case FaultCode::kFrozen: std::snprintf(text, sizeof text, "IMU and joint readings frozen (identical frames)"); break;
+    case FaultCode::kFrozenImu:
+      std::snprintf(text, sizeof text, "IMU readings frozen (identical for over %.0f ms)", config_.frozen_after * 1e3);
+      break;
+    case FaultCode::kFrozenJoints:
+      std::snprintf(text, sizeof text, "joint encoder readings frozen (identical for over %.0f ms while the motors hold)",
+                    config_.frozen_after * 1e3);
+      break;
     case FaultCode::kNoCommand:
       std::snprintf(text, sizeof text, "no command from the control loop for over %.0f ms: the driver damps",
                     config_.command_timeout * 1e3);
@@ -135,8 +157,9 @@ void HwBackend::Run() {
   LowState frame, previous;
   bool have_frame = false;
   uint32_t last_tick = 0;
-  auto last_valid = Clock::now(), frozen_since = Clock::now(), mode_bad_since = Clock::now();
-  bool frozen = false, mode_bad = false;
+  auto last_valid = Clock::now(), mode_bad_since = Clock::now();
+  FreezeTimer imu_frozen, joints_frozen;
+  bool mode_bad = false;
   auto next = Clock::now();
   while (running_.load(std::memory_order_relaxed)) {
     // The command-loss watchdog: if the control loop stops handing commands over (hung, or
@@ -182,9 +205,11 @@ void HwBackend::Run() {
       estimator_.Update(frame, std::min(dt, 0.05));
       states_.Write(estimator_.state());
       frames_.Write(frame);
-      const bool same = have_frame && SameReadings(frame, previous);
-      if (same && !frozen) frozen_since = now;
-      frozen = same;
+      imu_frozen.Update(have_frame && SameImu(frame, previous), now);
+      // Encoders of a robot lying still may repeat; under stiffness the motors never hold bit-exactly still.
+      bool stiff = false;
+      for (int j = 0; j < a1::kNumJoints; ++j) stiff |= command.kp[j] != 0.0;
+      joints_frozen.Update(stiff && have_frame && SameJoints(frame, previous), now);
       bool any_mode_bad = false;
       for (int j = 0; j < a1::kNumJoints; ++j) {
         if ((command.kp[j] != 0.0 || command.kd[j] != 0.0) && frame.motors[j].mode != kModeServo) {
@@ -202,7 +227,8 @@ void HwBackend::Run() {
     FaultCode fault = FaultCode::kNone;
     if (command_lost) fault = FaultCode::kNoCommand;
     else if (Seconds(now - last_valid) > config_.stale_after) fault = FaultCode::kStale;
-    else if (frozen && Seconds(now - frozen_since) > config_.frozen_after) fault = FaultCode::kFrozen;
+    else if (imu_frozen.Outlasts(config_.frozen_after, now)) fault = FaultCode::kFrozenImu;
+    else if (joints_frozen.Outlasts(config_.frozen_after, now)) fault = FaultCode::kFrozenJoints;
     else if (mode_bad && Seconds(now - mode_bad_since) > config_.motor_mode_after) fault = FaultCode::kMotorMode;
     fault_.store(static_cast<int>(fault), std::memory_order_relaxed);
     cycles_.fetch_add(1, std::memory_order_relaxed);
@@ -218,22 +244,32 @@ std::vector<std::string> HwBackend::Preflight() {
   const DriverStats after = stats();
   const uint64_t received = after.received - before.received;
   const uint64_t sent = after.sent - before.sent;
-  char text[200];
-  if (received == 0) {
+  char text[320];
+  const auto count = [](uint64_t n) { return static_cast<unsigned long long>(n); };
+  const uint64_t bad_crc = after.bad_crc - before.bad_crc, bad_length = after.bad_length - before.bad_length;
+  const uint64_t bad_level = after.bad_level - before.bad_level, bad_values = after.bad_values - before.bad_values;
+  const uint64_t bad = bad_crc + bad_length + bad_level + bad_values;
+  if (received == 0 && bad == 0) {
     std::snprintf(text, sizeof text,
                   "no state frame from the robot at %s:%d in %.1f s (%llu commands sent): is it on, in low-level mode, "
                   "and reachable on this network?",
-                  config_.robot_host.c_str(), config_.robot_port, config_.preflight_seconds,
-                  static_cast<unsigned long long>(sent));
+                  config_.robot_host.c_str(), config_.robot_port, config_.preflight_seconds, count(sent));
     failures.push_back(text);
     return failures;
   }
-  const uint64_t bad = (after.bad_crc - before.bad_crc) + (after.bad_length - before.bad_length) +
-                       (after.bad_level - before.bad_level) + (after.bad_values - before.bad_values);
   if (bad > 0) {
-    std::snprintf(text, sizeof text, "%llu of %llu state frames were malformed (CRC, length, level flag or values)",
-                  static_cast<unsigned long long>(bad), static_cast<unsigned long long>(bad + received));
+    // Frames that come but never pass are not a missing robot: the robot answers in a format this
+    // build does not read (firmware, SDK version, or frame size).
+    std::snprintf(text, sizeof text,
+                  "%llu of %llu state frames were malformed (%llu bad CRC, %llu wrong length, %llu not low-level, %llu "
+                  "implausible values)%s",
+                  count(bad), count(bad + received), count(bad_crc), count(bad_length), count(bad_level),
+                  count(bad_values),
+                  received == 0 ? ": the robot answers, but not in the expected frame layout (a firmware or frame-size "
+                                  "mismatch?)"
+                                : "");
     failures.push_back(text);
+    if (received == 0) return failures;
   }
   if (received < sent / 2) {
     std::snprintf(text, sizeof text, "only %llu state frames for %llu commands", static_cast<unsigned long long>(received),
@@ -247,6 +283,11 @@ std::vector<std::string> HwBackend::Preflight() {
     if (!a1::WithinRange(j, q, 0.05)) {
       std::snprintf(text, sizeof text, "%s reads %.3f rad, outside its range [%.3f, %.3f]", a1::kJointNames[j], q,
                     a1::JointMin(j), a1::JointMax(j));
+      failures.push_back(text);
+    }
+    if (frame.motors[j].mode != kModeServo) {  // commanded servo mode since the first frame
+      std::snprintf(text, sizeof text, "%s motor reports mode 0x%02X, not servo mode (0x%02X): it is off or faulted",
+                    a1::kJointNames[j], frame.motors[j].mode, kModeServo);
       failures.push_back(text);
     }
     if (frame.motors[j].temperature > config_.max_motor_temperature) {

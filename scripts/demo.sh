@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # make demo: skilld with the simulated A1 and the shipped skill library, driven by skillctl the way
-# a user would: list the skills, stand, run the four fastest ones (each from rest), track a
-# velocity with the skill selector, navigate around the obstacles of configs/maps/demo.yaml
-# (writing a picture of the planned and the walked path to $PICTURE), then stop the server cleanly.
+# a user would drive a real robot, with no reset anywhere: list the skills, stand, navigate around
+# the obstacles of configs/maps/demo.yaml (writing a picture of the planned and the walked path to
+# $PICTURE), run the four fastest skills back to back, track a velocity with the skill selector,
+# then stop the server cleanly. Every motion starts only from a stand the server has verified.
 # Everything stays on this machine (Cyclone on loopback, a partition of its own).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,25 +29,17 @@ fastest=$(awk 'NR > 1 { printf "%s %f\n", $1, sqrt($2*$2 + $3*$3) + 0.3*($4 < 0 
           sort -k2 -g -r | head -4 | cut -d' ' -f1)
 rm -f /tmp/flsd_demo_skills.$$
 status=0
+picture=${PICTURE:-build/demo_navigation.svg}
+echo "== navigate to (5, 0) around the obstacles of configs/maps/demo.yaml"
+"${ctl[@]}" --quiet goto 5 0 --map configs/maps/demo.yaml --duration 90 --picture "$picture" || status=$?
 for k in $fastest; do
-  # Each skill from a standing start at rest, as the library's evaluation ran it. The simulated
-  # robot is reset first: a skill that turns fast can leave the robot tipping as the stand takes
-  # over (docs/selector.md), and no skill was trained to take over mid-stride.
-  "${ctl[@]}" reset >/dev/null
-  "${ctl[@]}" stand >/dev/null
+  # Back to back, as on a real robot: the server stands the robot up between skills and starts
+  # the next one only from a verified stand (lying down and standing up again if it must).
   echo "== skill $k for 4 s"
   "${ctl[@]}" --quiet skill "$k" --duration 4 || status=$?
 done
-"${ctl[@]}" reset >/dev/null
-"${ctl[@]}" stand >/dev/null
 echo "== track 0.4 m/s forward for 4 s (the selector chooses the skills)"
 "${ctl[@]}" --quiet vel 0.4 0 0 --duration 4 || status=$?
-"${ctl[@]}" stand >/dev/null
-picture=${PICTURE:-build/demo_navigation.svg}
-echo "== reset: back to the origin of the map"
-"${ctl[@]}" reset >/dev/null
-echo "== navigate to (5, 0) around the obstacles of configs/maps/demo.yaml"
-"${ctl[@]}" --quiet goto 5 0 --map configs/maps/demo.yaml --duration 60 --picture "$picture" || status=$?
 echo "== status"
 "${ctl[@]}" status
 exit $status

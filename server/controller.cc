@@ -9,6 +9,11 @@ namespace {
 
 int Ticks(double seconds) { return static_cast<int>(std::lround(seconds / a1::kControlDt)); }
 
+// Legs folded and spread, as the A1 lies after its motors go slack: a recovery lies down in this
+// pose, so that the robot rests on its belly with its feet wide, then stands up from it. (From
+// legs folded under the body, the rising robot pins its feet too close and stands pitched.)
+constexpr a1::JointArray<double> kLyingPose = {-0.45, 1.1, -2.6, 0.45, 1.1, -2.6, -0.45, 1.45, -2.6, 0.45, 1.45, -2.6};
+
 }  // namespace
 
 Controller::Controller(Backend& backend, const SkillLibrary& library, const ServerConfig& config)
@@ -37,10 +42,12 @@ void Controller::SubmitUrgent(const ControlRequest& request) {
   if (request.kind == ControlRequest::Kind::kDamp) {
     urgent_damp_ = request;
     have_urgent_damp_ = true;
-  } else if (!(request.only_this_task && have_urgent_stop_ && !urgent_stop_.only_this_task)) {
-    // A stop of one task never displaces a pending stop of whatever runs (a lapsed lease).
-    urgent_stop_ = request;
-    have_urgent_stop_ = true;
+  } else if (urgent_stop_count_ < kUrgentStops) {
+    urgent_stops_[urgent_stop_count_++] = request;
+  } else {  // a flood of hand-overs within one tick: stop more than was asked, never less
+    ControlRequest& last = urgent_stops_[kUrgentStops - 1];
+    last = request;
+    last.scope = ControlRequest::Scope::kAny;
   }
 }
 
@@ -63,8 +70,8 @@ void Controller::Tick() {
   SetText(backend_fault_, backend_fault.c_str());
   hazards_ = faults | SafetySupervisor::Hazards(state_, config_.safety);
   if (MotorsActive()) {
-    // A robot rising from the floor is low until it has stood up.
-    const bool rising = mode_ == flsd_msgs_MODE_STAND && stand_ticks_ < stand_total_ticks_;
+    // A robot rising from the floor, or lying down to rise again, is low until it has stood up.
+    const bool rising = mode_ == flsd_msgs_MODE_STAND && (stand_ticks_ < stand_total_ticks_ || lying_down_);
     faults |= supervisor_.Check(state_, a1::kControlDt, !rising);
   } else {
     supervisor_.Reset();
@@ -73,30 +80,22 @@ void Controller::Tick() {
 
   ControlRequest request;
   while (TakeQueued(request)) Apply(request);
-  ControlRequest stop, damp;
-  bool have_stop = false, have_damp = false;
+  ControlRequest damp;
+  bool have_damp = false;
+  int stops = 0;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    std::swap(have_stop, have_urgent_stop_);
     std::swap(have_damp, have_urgent_damp_);
-    stop = urgent_stop_;
     damp = urgent_damp_;
+    std::swap(stops, urgent_stop_count_);
+    std::copy_n(urgent_stops_.begin(), stops, taken_stops_.begin());
   }
-  if (have_stop) Apply(stop);
+  for (int i = 0; i < stops; ++i) Apply(taken_stops_[i]);
   if (have_damp) Apply(damp);
 
-  // A skill or velocity task waiting for the stand to settle starts now, so that its policy acts
-  // from its first published tick.
-  if (mode_ == flsd_msgs_MODE_STAND && stand_ticks_ >= stand_total_ticks_ && pending_mode_ != flsd_msgs_MODE_IDLE) {
-    mode_ = pending_mode_;
-    skill_ = mode_ == flsd_msgs_MODE_SKILL ? pending_skill_ : -1;
-    task_ticks_left_ = pending_ticks_;
-    pending_mode_ = flsd_msgs_MODE_IDLE;
-    pending_ticks_ = 0;
-    previous_action_.fill(0.0f);  // as at the start of a training episode
-    target_filter_.Reset(state_.joint_position);
-    if (hierarchy_) hierarchy_->Reset();
-  }
+  // A skill or velocity task waiting for the stand starts now, so that its policy acts from its
+  // first published tick.
+  if (mode_ == flsd_msgs_MODE_STAND && stand_ticks_ >= stand_total_ticks_) SettledStand();
   JointCommand command;
   switch (mode_) {
     case flsd_msgs_MODE_STAND: command = StandCommand(); break;
@@ -127,9 +126,11 @@ void Controller::Apply(const ControlRequest& request) {
       // Never stiffen a robot that is on its side, out of range, or not being sensed (the
       // request side refuses these too; this catches what changed since it looked).
       if (hazards_ != 0) return;
+      if (latched_faults_ & kFaultStop) return;  // an emergency stop is lifted on purpose only
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by stand");
       latched_faults_ = 0;
       fault_message_[0] = '\0';
+      recoveries_ = 0;
       if (mode_ != flsd_msgs_MODE_STAND) EnterStand();
       pending_mode_ = flsd_msgs_MODE_IDLE;
       break;
@@ -147,6 +148,7 @@ void Controller::Apply(const ControlRequest& request) {
         return;
       }
       // Every skill starts from the default pose: the state its episodes started from in training.
+      recoveries_ = 0;
       EnterStand();
       pending_mode_ = flsd_msgs_MODE_SKILL;
       pending_skill_ = request.skill;
@@ -174,6 +176,7 @@ void Controller::Apply(const ControlRequest& request) {
         task_ticks_left_ = std::max(1, Ticks(request.duration));
         return;
       }
+      recoveries_ = 0;
       EnterStand();
       pending_mode_ = mode;
       pending_ticks_ = std::max(1, Ticks(request.duration));
@@ -188,10 +191,7 @@ void Controller::Apply(const ControlRequest& request) {
       task_.message = request.reason;
       break;
     case ControlRequest::Kind::kStop:
-      if (request.only_this_task && (task_.state != flsd_msgs_TASK_RUNNING || task_.request_id != request.request_id ||
-                                     task_.client_id != request.client_id)) {
-        return;
-      }
+      if (!StopApplies(request)) return;
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(request.stop_state, request.reason.data());
       pending_mode_ = flsd_msgs_MODE_IDLE;
       if (mode_ != flsd_msgs_MODE_DAMP && mode_ != flsd_msgs_MODE_IDLE && mode_ != flsd_msgs_MODE_STAND) EnterStand();
@@ -199,33 +199,141 @@ void Controller::Apply(const ControlRequest& request) {
     case ControlRequest::Kind::kDamp:
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_CANCELLED, request.reason.data());
       EnterDamp(kFaultStop);
+      stop_client_ = request.client_id;  // the newest press is the one to clear
+      stop_time_ = static_cast<double>(tick_) * a1::kControlDt;
+      break;
+    case ControlRequest::Kind::kClearStop:
+      if (!(latched_faults_ & kFaultStop)) return;
+      latched_faults_ &= ~kFaultStop;
+      stop_client_[0] = '\0';
+      if (latched_faults_ == 0) {  // nothing else latched: damped and idle until told to stand
+        fault_message_[0] = '\0';
+        if (mode_ == flsd_msgs_MODE_DAMP) mode_ = flsd_msgs_MODE_IDLE;
+      } else {
+        DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size(),
+                       backend_fault_.data());
+      }
       break;
     case ControlRequest::Kind::kReset:
+      if (!backend_.CanReset() || (latched_faults_ & kFaultStop)) return;  // as for stand
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_CANCELLED, "the simulation was reset");
-      if (!backend_.CanReset()) return;
       backend_.Reset();
       state_ = backend_.Read();
       latched_faults_ = 0;
       fault_message_[0] = '\0';
       pending_mode_ = flsd_msgs_MODE_IDLE;
+      recoveries_ = 0;
       EnterStand();
       break;
   }
 }
 
+bool Controller::StopApplies(const ControlRequest& stop) const {
+  const bool running = task_.state == flsd_msgs_TASK_RUNNING;
+  switch (stop.scope) {
+    case ControlRequest::Scope::kAny: return true;
+    case ControlRequest::Scope::kClient: return running && task_.client_id == stop.client_id;
+    case ControlRequest::Scope::kTask:
+      return running && task_.client_id == stop.client_id && task_.request_id == stop.request_id;
+  }
+  return false;
+}
+
 void Controller::EnterStand() {
   mode_ = flsd_msgs_MODE_STAND;
   skill_ = -1;
+  lying_down_ = false;
+  MoveTargets(a1::kDefaultJointPos);
+}
+
+void Controller::LieDown() {
+  lying_down_ = true;
+  MoveTargets(kLyingPose);
+}
+
+void Controller::MoveTargets(const a1::JointArray<double>& to) {
   stand_from_ = state_.joint_position;
+  stand_to_ = to;
   double farthest = 0.0;
-  for (int j = 0; j < a1::kNumJoints; ++j) {
-    farthest = std::max(farthest, std::abs(a1::kDefaultJointPos[j] - stand_from_[j]));
-  }
+  for (int j = 0; j < a1::kNumJoints; ++j) farthest = std::max(farthest, std::abs(to[j] - stand_from_[j]));
   stand_ticks_ = 0;
-  // Joint targets move to the default pose at stand_joint_speed, then hold for a settling half
-  // second, so that a skill starts from rest.
+  unverified_ticks_ = 0;
+  // Joint targets move at stand_joint_speed, then hold for a settling half second, so that a
+  // skill starts from rest.
   stand_move_ticks_ = std::max(1, Ticks(farthest / config_.stand_joint_speed));
   stand_total_ticks_ = stand_move_ticks_ + Ticks(0.5);
+}
+
+void Controller::SettledStand() {
+  if (lying_down_) {  // down on its belly: now up again
+    EnterStand();
+    return;
+  }
+  if (Standing()) {
+    unverified_ticks_ = 0;
+    if (pending_mode_ != flsd_msgs_MODE_IDLE) StartPending();
+    return;
+  }
+  if (++unverified_ticks_ < Ticks(config_.stand_check.timeout)) return;  // still settling, maybe
+  if (recoveries_ < config_.stand_check.max_recoveries) {
+    ++recoveries_;
+    LieDown();
+    return;
+  }
+  unverified_ticks_ = 0;
+  if (pending_mode_ == flsd_msgs_MODE_IDLE) return;  // a plain stand holds on as it is
+  char why[160];
+  Standing(why, sizeof why);
+  char message[192];
+  std::snprintf(message, sizeof message, "not standing after %d lie-down and stand-up recoveries (%s); not started",
+                recoveries_, why);
+  EndTask(flsd_msgs_TASK_SAFETY_STOP, message);
+  pending_mode_ = flsd_msgs_MODE_IDLE;
+  pending_ticks_ = 0;
+}
+
+void Controller::StartPending() {
+  mode_ = pending_mode_;
+  skill_ = mode_ == flsd_msgs_MODE_SKILL ? pending_skill_ : -1;
+  task_ticks_left_ = pending_ticks_;
+  pending_mode_ = flsd_msgs_MODE_IDLE;
+  pending_ticks_ = 0;
+  previous_action_.fill(0.0f);  // as at the start of a training episode
+  target_filter_.Reset(state_.joint_position);
+  if (hierarchy_) hierarchy_->Reset();
+}
+
+bool Controller::Standing(char* why, std::size_t size) const {
+  const StandCheckConfig& c = config_.stand_check;
+  int worst_error = 0, fastest = 0;
+  for (int j = 1; j < a1::kNumJoints; ++j) {
+    const auto error = [&](int k) { return std::abs(state_.joint_position[k] - a1::kDefaultJointPos[k]); };
+    if (!(error(j) <= error(worst_error))) worst_error = j;  // a NaN is the worst
+    if (!(std::abs(state_.joint_velocity[j]) <= std::abs(state_.joint_velocity[fastest]))) fastest = j;
+  }
+  const double tilt = SafetySupervisor::Tilt(state_);
+  const double height = state_.base_position.z();
+  const double error = std::abs(state_.joint_position[worst_error] - a1::kDefaultJointPos[worst_error]);
+  const double speed = std::abs(state_.joint_velocity[fastest]);
+  const double base_speed = state_.base_linear_velocity.norm();
+  const bool upright = tilt <= c.max_tilt;
+  const bool high = c.min_base_height <= 0.0 || height >= c.min_base_height;
+  const bool posed = error <= c.max_joint_error;
+  const bool still = speed <= c.max_joint_speed && base_speed <= c.max_base_speed;
+  if (upright && high && posed && still) return true;
+  if (why == nullptr || size == 0) return false;
+  why[0] = '\0';
+  std::size_t used = 0;
+  const auto add = [&](const char* format, auto... args) {
+    const int n = std::snprintf(why + used, size - used, format, used == 0 ? "" : "; ", args...);
+    if (n > 0) used = std::min(size - 1, used + static_cast<std::size_t>(n));
+  };
+  if (!upright) add("%stilt %.2f rad > %.2f", tilt, c.max_tilt);
+  if (!high) add("%sbase %.3f m < %.3f", height, c.min_base_height);
+  if (!posed) add("%s%s %.2f rad off the stand > %.2f", a1::kJointNames[worst_error], error, c.max_joint_error);
+  if (speed > c.max_joint_speed) add("%s%s at %.1f rad/s > %.1f", a1::kJointNames[fastest], speed, c.max_joint_speed);
+  if (base_speed > c.max_base_speed) add("%sbase at %.2f m/s > %.2f", base_speed, c.max_base_speed);
+  return false;
 }
 
 void Controller::EnterDamp(uint32_t faults) {
@@ -261,7 +369,7 @@ void Controller::EndTask(flsd_msgs_TaskState state, const char* message) {
 JointCommand Controller::StandCommand() {
   const double s = std::min(1.0, static_cast<double>(stand_ticks_) / stand_move_ticks_);
   a1::JointArray<double> target;
-  for (int j = 0; j < a1::kNumJoints; ++j) target[j] = stand_from_[j] + s * (a1::kDefaultJointPos[j] - stand_from_[j]);
+  for (int j = 0; j < a1::kNumJoints; ++j) target[j] = stand_from_[j] + s * (stand_to_[j] - stand_from_[j]);
   if (stand_ticks_ < stand_total_ticks_) ++stand_ticks_;
   JointCommand command;
   command.position = target;
@@ -322,6 +430,8 @@ void Controller::Publish() {
     s.faults = latched_faults_;
     s.fault_message = fault_message_;
     s.safety_trips = safety_trips_;
+    s.stop_client = stop_client_;
+    s.stop_time = stop_time_;
     s.hazards = hazards_;
     s.backend_fault = backend_fault_;
     s.task = task_;

@@ -49,6 +49,8 @@ struct ControllerStatus {
   uint32_t faults = 0;  // latched since the last stop; zero while none is latched
   FixedText fault_message{};
   uint64_t safety_trips = 0;  // ever; a client compares counts to learn of new trips
+  ClientId stop_client{};     // who pressed the emergency stop latched now (kFaultStop)
+  double stop_time = 0.0;     // s, when it was pressed
   uint32_t hazards = 0;       // SafetySupervisor::Hazards, plus kFaultBackend: what forbids standing now
   FixedText backend_fault{};  // the backend's account of its fault, while it has one
   TaskStatus task;
@@ -58,8 +60,9 @@ struct ControllerStatus {
 struct ControlRequest {
   // kVelocity starts a velocity task (track_velocity, or navigate with `navigate` set);
   // kVelocityUpdate changes the command of the running velocity task `request_id` (the navigator's
-  // steering), and is ignored once that task has ended.
-  enum class Kind { kStand, kSkill, kVelocity, kVelocityUpdate, kStop, kDamp, kReset };
+  // steering), and is ignored once that task has ended. kDamp latches an emergency stop that only
+  // kClearStop lifts (stand does not); the robot then stays damped until it is told to stand.
+  enum class Kind { kStand, kSkill, kVelocity, kVelocityUpdate, kStop, kDamp, kClearStop, kReset };
   Kind kind = Kind::kStand;
   int skill = 0;
   double duration = 0.0;  // s, kSkill and kVelocity
@@ -68,7 +71,10 @@ struct ControlRequest {
   ClientId client_id{};
   uint64_t request_id = 0;
   flsd_msgs_TaskState stop_state = flsd_msgs_TASK_CANCELLED;  // kStop: how the current task ends
-  bool only_this_task = false;  // kStop: end the running task only if it is request_id's
+  // kStop: what it ends. A stop on behalf of one client (its lease lapsed, it released control)
+  // must not end the task of the client that took control after it.
+  enum class Scope { kAny, kClient, kTask };  // whatever runs; client_id's task; request_id's task
+  Scope scope = Scope::kAny;
   FixedText reason{};  // kStop, kDamp: why, for the task's message; kVelocityUpdate: progress
 };
 
@@ -80,9 +86,10 @@ class Controller {
   // Queues a request for the next tick. Returns false if the queue is full (a flood).
   bool Submit(const ControlRequest& request);
 
-  // For the two requests that must never wait behind a full queue or be refused: the emergency
-  // stop (kDamp) and the stop of a lapsed lease (kStop). The newest of each kind is kept, and
-  // the next tick applies them after the queue, so they override whatever came with them.
+  // For the requests that must never wait behind a full queue or be refused: the emergency stop
+  // (kDamp) and stops (kStop: a lapsed or released lease, the end of a navigation). The next tick
+  // applies them after the queue, in the order they came, so they override whatever came with
+  // them. The newest damp is kept; stops beyond kUrgentStops merge into one stop of whatever runs.
   void SubmitUrgent(const ControlRequest& request);
 
   // One control period: read the state, supervise, apply queued requests, command the backend.
@@ -100,10 +107,21 @@ class Controller {
 
  private:
   static constexpr int kQueueSize = 16;
+  static constexpr int kUrgentStops = 8;
 
   void Apply(const ControlRequest& request);
+  bool StopApplies(const ControlRequest& stop) const;
   bool TakeQueued(ControlRequest& request);
   void EnterStand();
+  // Recovery: targets to kLyingPose, then (SettledStand) up again.
+  void LieDown();
+  void MoveTargets(const a1::JointArray<double>& to);
+  // Once a stand has settled: starts what waits for it if the robot stands as it should,
+  // otherwise recovers or ends the waiting task with the reason.
+  void SettledStand();
+  void StartPending();
+  // Whether the robot stands within config.stand_check; if not and `why` is given, says how not.
+  bool Standing(char* why = nullptr, std::size_t size = 0) const;
   void EnterDamp(uint32_t faults);
   void StartTask(const ControlRequest& request, const char* call);
   void EndTask(flsd_msgs_TaskState state, const char* message);
@@ -135,9 +153,14 @@ class Controller {
   FixedText fault_message_{};
   FixedText backend_fault_{};  // the backend's account of its fault, while it has one
   uint64_t safety_trips_ = 0;
+  ClientId stop_client_{};
+  double stop_time_ = 0.0;
   TaskStatus task_;
   uint64_t task_start_tick_ = 0;
-  a1::JointArray<double> stand_from_{};
+  a1::JointArray<double> stand_from_{}, stand_to_{};
+  bool lying_down_ = false;   // a recovery's first half
+  int recoveries_ = 0;        // since the last request
+  int unverified_ticks_ = 0;  // settled, but not standing as it should
   int stand_ticks_ = 0;
   int stand_move_ticks_ = 1;   // moving the targets to the default pose
   int stand_total_ticks_ = 1;  // then holding them while the robot settles
@@ -156,8 +179,11 @@ class Controller {
   mutable std::mutex queue_mutex_;
   std::array<ControlRequest, kQueueSize> queue_{};
   int queue_head_ = 0, queue_count_ = 0;
-  ControlRequest urgent_damp_, urgent_stop_;
-  bool have_urgent_damp_ = false, have_urgent_stop_ = false;
+  ControlRequest urgent_damp_;
+  bool have_urgent_damp_ = false;
+  std::array<ControlRequest, kUrgentStops> urgent_stops_{};
+  int urgent_stop_count_ = 0;
+  std::array<ControlRequest, kUrgentStops> taken_stops_{};  // control thread: the tick's copy
   mutable std::mutex status_mutex_;
   mutable std::condition_variable status_changed_;
   ControllerStatus published_;

@@ -41,12 +41,12 @@ DdsService::DdsService(const ServerConfig& config, Controller& controller, const
     : controller_(controller),
       loop_(loop),
       backend_name_(std::move(backend_name)),
-      navigator_(controller.has_selector() ? std::make_unique<Navigator>(controller, config.navigation) : nullptr),
-      handler_(controller, config, navigator_.get()),
-      skills_(MakeSkillInfos(controller.library())),
       domain_(config.domain_id, config.partition),
       replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
       states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
+      navigator_(controller.has_selector() ? std::make_unique<Navigator>(controller, config.navigation) : nullptr),
+      handler_(controller, config, navigator_.get()),
+      skills_(MakeSkillInfos(controller.library())),
       listener_(&DdsService::OnRequests, this),
       requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos, &listener_) {}
 
@@ -91,9 +91,15 @@ void DdsService::PollLeases() {
 void DdsService::ServeRequests() {
   std::lock_guard<std::mutex> lock(handler_mutex_);
   requests_.Take([&](const flsd_msgs_Request& request, const dds_sample_info_t&) {
+    const std::string client_id = request.header.client_id != nullptr ? request.header.client_id : "";
+    const uint64_t request_id = request.header.request_id;
+    const int64_t deadline_ns = request.header.deadline_ns;
     try {
-      const std::optional<ReplyContent> reply = handler_.Handle(request, MonotonicSeconds(), dds_time());
-      if (reply) SendReply(request, *reply);
+      const DeferredReply later = [this, client_id, request_id, deadline_ns](const ReplyContent& content) {
+        SendReply(client_id, request_id, deadline_ns, content);
+      };
+      const std::optional<ReplyContent> reply = handler_.Handle(request, MonotonicSeconds(), dds_time(), later);
+      if (reply) SendReply(client_id, request_id, deadline_ns, *reply);
     } catch (const std::exception& e) {
       // Nothing a client sends may stop the server; say what went wrong instead.
       spdlog::error("request '{}' from '{}' failed: {}", request.call ? request.call : "",
@@ -101,7 +107,7 @@ void DdsService::ServeRequests() {
       ReplyContent internal;
       internal.status = flsd_msgs_STATUS_INTERNAL;
       internal.message = e.what();
-      SendReply(request, internal);
+      SendReply(client_id, request_id, deadline_ns, internal);
     }
   }, 1 << 30);
   dropped_ = handler_.dropped();
@@ -109,11 +115,12 @@ void DdsService::ServeRequests() {
   holder_ = handler_.controller_id();
 }
 
-void DdsService::SendReply(const flsd_msgs_Request& request, const ReplyContent& content) {
+void DdsService::SendReply(const std::string& client_id, uint64_t request_id, int64_t deadline_ns,
+                           const ReplyContent& content) {
   flsd_msgs_Reply reply{};
-  reply.header.client_id = request.header.client_id ? request.header.client_id : Text("");
-  reply.header.request_id = request.header.request_id;
-  reply.header.deadline_ns = request.header.deadline_ns;
+  reply.header.client_id = Text(client_id);
+  reply.header.request_id = request_id;
+  reply.header.deadline_ns = deadline_ns;
   reply.status = content.status;
   reply.message = Text(content.message);
   reply.safety_report = Text(content.safety_report);

@@ -34,19 +34,23 @@ class DdsService {
   void ServeRequests();  // takes and answers whatever requests are waiting
   void PollLeases();
   void PublishState();
-  void SendReply(const flsd_msgs_Request& request, const ReplyContent& content);
+  // Thread-safe: the navigator answers navigate requests whose maps it has read.
+  void SendReply(const std::string& client_id, uint64_t request_id, int64_t deadline_ns, const ReplyContent& content);
 
   Controller& controller_;
   const ControlLoop& loop_;
   std::string backend_name_;
-  std::unique_ptr<Navigator> navigator_;  // when the library has a skill selector
-  std::mutex handler_mutex_;  // the listener and the poll thread share the handler
-  RequestHandler handler_;
-  std::vector<flsd_msgs_SkillInfo> skills_;
-  std::atomic<bool> running_{false};
   dds::Domain domain_;
   dds::Writer<flsd_msgs_Reply> replies_;
   dds::Writer<flsd_msgs_RobotState> states_;
+  // After the writers, so that it goes first: its thread may be answering a request.
+  std::unique_ptr<Navigator> navigator_;  // when the library has a skill selector
+  // The listener and the poll thread share the handler. Everything under it is quick (a map is
+  // read on the navigator's thread), so an emergency stop never waits here for long.
+  std::mutex handler_mutex_;
+  RequestHandler handler_;
+  std::vector<flsd_msgs_SkillInfo> skills_;
+  std::atomic<bool> running_{false};
   std::mutex poll_mutex_;
   std::condition_variable poll_wake_;
   std::thread poll_thread_, state_thread_;

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/check.h"
+
 namespace flsd {
 namespace {
 
@@ -41,12 +43,35 @@ Navigator::~Navigator() {
 }
 
 void Navigator::Start(NavigationJob job) {
+  MapRequest request;
+  request.job = std::move(job);
+  Start(std::move(request));
+}
+
+void Navigator::Start(MapRequest request) {
+  std::optional<MapRequest> dropped;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    next_ = std::move(job);
+    dropped.swap(next_);
+    next_ = std::move(request);
     ++generation_;
   }
+  if (dropped && dropped->reply) {
+    dropped->reply(flsd_msgs_STATUS_NOT_AVAILABLE, "superseded by a later navigate before its map was read");
+  }
   wake_.notify_all();
+}
+
+void Navigator::Cancel() {
+  std::optional<MapRequest> dropped;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    dropped.swap(next_);
+    ++generation_;
+  }
+  if (dropped && dropped->reply) {
+    dropped->reply(flsd_msgs_STATUS_NOT_AVAILABLE, "superseded by a later request before its map was read");
+  }
 }
 
 std::vector<double> Navigator::Path() const {
@@ -64,18 +89,44 @@ void Navigator::Run() {
   while (!quit_) {
     wake_.wait(lock, [&] { return quit_ || next_.has_value(); });
     if (quit_) break;
-    const NavigationJob job = std::move(*next_);
+    MapRequest request = std::move(*next_);
     next_.reset();
     const uint64_t generation = generation_;  // read with the job, so a newer Start is seen
     lock.unlock();
+    const NavigationJob& job = request.job;
     try {
-      Navigate(job, generation);
+      if (!request.reply || Accept(request, generation)) Navigate(job, generation);
     } catch (const std::exception& e) {  // never let a navigation take the server down
       Finish(job, flsd_msgs_TASK_CANCELLED, std::string("navigation failed: ") + e.what());
     }
     lock.lock();
     path_.clear();
   }
+}
+
+bool Navigator::Accept(MapRequest& request, uint64_t generation) {
+  try {
+    request.job.map = Map2D::Parse(request.map_yaml, "the request's map");
+  } catch (const InputError& e) {
+    request.reply(flsd_msgs_STATUS_INVALID_ARGUMENT, e.what());
+    return false;
+  }
+  bool submitted = false, superseded = false;
+  {
+    // Held while submitting: a Cancel() either comes first and is seen here, or comes after and
+    // is followed by its own request, which then overrides this task in the controller.
+    std::lock_guard<std::mutex> lock(mutex_);
+    superseded = quit_ || generation_ != generation;
+    if (!superseded) submitted = controller_.Submit(request.task);
+  }
+  if (superseded) {
+    request.reply(flsd_msgs_STATUS_NOT_AVAILABLE, "superseded by a later request while its map was read");
+  } else if (!submitted) {
+    request.reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+  } else {
+    request.reply(flsd_msgs_STATUS_OK, request.accepted);
+  }
+  return submitted;
 }
 
 bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, PlannedPath& path) {
@@ -158,7 +209,7 @@ void Navigator::Finish(const NavigationJob& job, flsd_msgs_TaskState state, cons
   stop.kind = ControlRequest::Kind::kStop;
   stop.client_id = job.client_id;
   stop.request_id = job.request_id;
-  stop.only_this_task = true;
+  stop.scope = ControlRequest::Scope::kTask;
   stop.stop_state = state;
   SetText(stop.reason, message.c_str());
   // Urgent: the end of a navigation must not wait behind (or be lost to) a full queue.

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -28,6 +29,17 @@ struct NavigationJob {
   double timeout = 120.0;  // s, standing up included
 };
 
+// A navigate request whose map came with it: the map is read on the navigator's thread (reading
+// costs time, and the request thread must stay free for the emergency stop); only then is the
+// controller's task submitted and the request answered.
+struct MapRequest {
+  NavigationJob job;  // job.map is read from map_yaml
+  std::string map_yaml;
+  ControlRequest task;   // the controller's task for the job
+  std::string accepted;  // the reply's message once it is under way
+  std::function<void(flsd_msgs_ReplyStatus, const std::string&)> reply;
+};
+
 class Navigator {
  public:
   // `controller` must outlive the navigator.
@@ -39,12 +51,21 @@ class Navigator {
   // Takes over from any navigation in progress. The controller's task for the job must have been
   // submitted first (a kVelocity request with `navigate` set and the job's ids).
   void Start(NavigationJob job);
+  // Takes over likewise, but reads the map first (see MapRequest); a map that does not parse is
+  // answered with STATUS_INVALID_ARGUMENT and nothing moves.
+  void Start(MapRequest request);
+  // Ends any navigation in progress and drops one whose map is still being read (answered as
+  // superseded). Call it before submitting any other motion, so that a navigation accepted
+  // earlier never starts after it.
+  void Cancel();
 
   // The path being followed (empty when none), x0 y0 x1 y1 ..., for telemetry.
   std::vector<double> Path() const;
 
  private:
   void Run();
+  // Reads the map of `request`, submits its task unless superseded, and answers it; whether it runs.
+  bool Accept(MapRequest& request, uint64_t generation);
   void Navigate(const NavigationJob& job, uint64_t generation);
   bool Plan(const NavigationJob& job, const Eigen::Vector2d& from, PlannedPath& path);
   void Finish(const NavigationJob& job, flsd_msgs_TaskState state, const std::string& message);
@@ -55,7 +76,7 @@ class Navigator {
   NavigationConfig config_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
-  std::optional<NavigationJob> next_;
+  std::optional<MapRequest> next_;  // a job whose task is submitted has an empty map_yaml and no reply
   uint64_t generation_ = 0;  // counts Start() calls; a job stops when a newer one arrives
   bool quit_ = false;
   std::vector<double> path_;

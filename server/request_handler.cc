@@ -11,7 +11,7 @@ namespace flsd {
 namespace {
 
 constexpr const char* kKnownCalls =
-    "list_skills, status, execute_skill, track_velocity, navigate, stop, stand, damp, acquire_control, "
+    "list_skills, status, execute_skill, track_velocity, navigate, stop, stand, damp, clear_stop, acquire_control, "
     "renew_control, release_control, reset";
 
 ReplyContent Reply(flsd_msgs_ReplyStatus status, std::string message) {
@@ -47,19 +47,30 @@ RequestHandler::RequestHandler(Controller& controller, const ServerConfig& confi
 RequestHandler::ClientState& RequestHandler::Client(const std::string& id, double now) {
   auto it = clients_.find(id);
   if (it == clients_.end()) {
-    if (clients_.size() >= kMaxClients) {  // forget the longest-silent client
+    if (clients_.size() >= kMaxClients) {  // forget the longest-silent client, but not its ids
       auto oldest = std::min_element(clients_.begin(), clients_.end(), [](const auto& a, const auto& b) {
         return a.second.last_seen < b.second.last_seen;
       });
+      uint64_t& floor = id_floors_[FloorBucket(oldest->first)];
+      if (oldest->second.seen_request) floor = std::max(floor, oldest->second.last_request_id);
       clients_.erase(oldest);
     }
     ClientState fresh;
+    // A client the server does not know may be one it forgot: its ids must clear the floor of
+    // its bucket, so that a forgotten request cannot be replayed.
+    const uint64_t floor = id_floors_[FloorBucket(id)];
+    fresh.seen_request = floor > 0;
+    fresh.last_request_id = floor;
     fresh.tokens = config_.request_burst;
     fresh.last_seen = now;
     fresh.reported_trips = controller_.status().safety_trips;  // a newcomer hears of trips to come
     it = clients_.emplace(id, fresh).first;
   }
   return it->second;
+}
+
+std::size_t RequestHandler::FloorBucket(const std::string& id) {
+  return std::hash<std::string>{}(id) % kIdFloorBuckets;
 }
 
 bool RequestHandler::TakeToken(ClientState& client, double now) {
@@ -74,17 +85,25 @@ bool RequestHandler::TakeToken(ClientState& client, double now) {
 void RequestHandler::Poll(double now) {
   const std::string holder = lease_.holder();
   if (lease_.Expire(now)) {
-    ControlRequest stop;
-    stop.kind = ControlRequest::Kind::kStop;
-    stop.stop_state = flsd_msgs_TASK_LEASE_LOST;
-    SetText(stop.reason, ("control lease of " + holder + " lapsed after " + Seconds(lease_.timeout()) +
-                          " without a request; standing")
-                             .c_str());
-    controller_.SubmitUrgent(stop);
+    StopTaskOf(holder, flsd_msgs_TASK_LEASE_LOST,
+               "control lease of " + holder + " lapsed after " + Seconds(lease_.timeout()) + " without a request; standing");
   }
 }
 
-std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& request, double now, int64_t wall_ns) {
+void RequestHandler::StopTaskOf(const std::string& client_id, flsd_msgs_TaskState state, const std::string& reason) {
+  if (navigator_ != nullptr) navigator_->Cancel();
+  ControlRequest stop;
+  stop.kind = ControlRequest::Kind::kStop;
+  stop.stop_state = state;
+  // Only this client's task: not one its successor may already have started in the same tick.
+  stop.scope = ControlRequest::Scope::kClient;
+  SetText(stop.client_id, client_id.c_str());
+  SetText(stop.reason, reason.c_str());
+  controller_.SubmitUrgent(stop);
+}
+
+std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& request, double now, int64_t wall_ns,
+                                                   const DeferredReply& later) {
   Poll(now);
   const std::string client_id = request.header.client_id != nullptr ? request.header.client_id : "";
   if (client_id.empty() || client_id.size() > kMaxClientIdLength) {
@@ -100,26 +119,33 @@ std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& requ
   if (client.seen_request && id <= client.last_request_id) {
     return Reply(flsd_msgs_STATUS_DUPLICATE, "request_id " + std::to_string(id) + " is not above " +
                                                  std::to_string(client.last_request_id) +
-                                                 ", the last one from this client; not executed");
+                                                 ", the last one from this client or its forgotten peers; not executed");
   }
   client.seen_request = true;
   client.last_request_id = id;
-  if (request.header.deadline_ns != 0 && wall_ns > request.header.deadline_ns) {
-    return Reply(flsd_msgs_STATUS_DEADLINE_EXCEEDED,
-                 "arrived " + Seconds(static_cast<double>(wall_ns - request.header.deadline_ns) * 1e-9) +
-                     " after its deadline; not executed");
+  const int64_t deadline = request.header.deadline_ns;
+  if (deadline < 0) {
+    return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "deadline_ns must be 0 (none) or a CLOCK_REALTIME time in ns, got " +
+                                                        std::to_string(deadline) + "; not executed");
   }
+  if (deadline != 0 && wall_ns > deadline) {  // both non-negative: the difference cannot overflow
+    return Reply(flsd_msgs_STATUS_DEADLINE_EXCEEDED,
+                 "arrived " + Seconds(static_cast<double>(wall_ns - deadline) * 1e-9) + " after its deadline; not executed");
+  }
+  // Any request that gets this far shows the holder is alive: it renews the lease.
+  lease_.Renew(client_id, now);
 
-  ReplyContent reply = Dispatch(request, client_id, now);
+  std::optional<ReplyContent> reply = Dispatch(request, client_id, now, later);
   const ControllerStatus status = controller_.status();
-  if (status.safety_trips > client.reported_trips) {
-    reply.safety_report = status.fault_message[0] != '\0' ? status.fault_message.data() : "safety stop";
+  if (reply && status.safety_trips > client.reported_trips) {
+    reply->safety_report = status.fault_message[0] != '\0' ? status.fault_message.data() : "safety stop";
     client.reported_trips = status.safety_trips;
   }
   return reply;
 }
 
-ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const std::string& client_id, double now) {
+std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& request, const std::string& client_id,
+                                                     double now, const DeferredReply& later) {
   const std::string call = request.call != nullptr ? request.call : "";
   if (call == "list_skills") {
     ReplyContent r = Reply(flsd_msgs_STATUS_OK, std::to_string(controller_.library().num_skills()) + " skills");
@@ -145,12 +171,7 @@ ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const st
     if (!lease_.Release(client_id)) {
       return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "this client does not hold control");
     }
-    ControlRequest stop;
-    stop.kind = ControlRequest::Kind::kStop;
-    SetText(stop.reason, "control released");
-    SetText(stop.client_id, client_id.c_str());
-    stop.request_id = request.header.request_id;
-    controller_.SubmitUrgent(stop);  // never lost to a full queue: nobody holds control now
+    StopTaskOf(client_id, flsd_msgs_TASK_CANCELLED, "control released");
     return Reply(flsd_msgs_STATUS_OK, "control released; the robot stands");
   }
   if (call == "damp") {  // the emergency stop: anyone may press it
@@ -160,8 +181,10 @@ ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const st
     SetText(damp.client_id, client_id.c_str());
     damp.request_id = request.header.request_id;
     controller_.SubmitUrgent(damp);
-    return Reply(flsd_msgs_STATUS_OK, "damping; call stand to recover");
+    return Reply(flsd_msgs_STATUS_OK, "damping; latched until clear_stop (from this client, or from any after " +
+                                          Seconds(config_.safety.stop_hold_time) + "), then stand");
   }
+  if (call == "clear_stop") return ClearStop(client_id);
   static const char* const kMotionCalls[] = {"execute_skill", "track_velocity", "navigate", "stop", "stand", "reset"};
   if (std::find_if(std::begin(kMotionCalls), std::end(kMotionCalls), [&](const char* c) { return call == c; }) !=
       std::end(kMotionCalls)) {
@@ -170,12 +193,13 @@ ReplyContent RequestHandler::Dispatch(const flsd_msgs_Request& request, const st
                    lease_.held() ? "control is held by " + lease_.holder()
                                  : std::string("no client holds control; call acquire_control first"));
     }
-    return Motion(request, client_id, now);
+    return Motion(request, client_id, later);
   }
   return Reply(flsd_msgs_STATUS_UNKNOWN_CALL, "unknown call '" + call + "'; known calls: " + kKnownCalls);
 }
 
-ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std::string& client_id, double now) {
+std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& request, const std::string& client_id,
+                                                   const DeferredReply& later) {
   const std::string call = request.call;
   const ControllerStatus status = controller_.status();
   ControlRequest control;
@@ -207,16 +231,16 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
     return Reply(flsd_msgs_STATUS_OK, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
                                           " accepted; progress is on the state topic");
   }
-  if (call == "track_velocity" || call == "navigate") return Velocity(request, client_id);
+  if (call == "track_velocity" || call == "navigate") return Velocity(request, client_id, later);
   if (call == "reset" && !controller_.backend_can_reset()) {
     return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "this backend cannot reset the robot; stand it up by hand");
   }
+  if ((call == "stand" || call == "reset") && (status.faults & kFaultStop)) {
+    return Reply(flsd_msgs_STATUS_SAFETY_STOP, "cannot " + call + ": " + EmergencyStopText(status));
+  }
   if (call == "stand" && status.hazards != 0) {
     // Standing clears a latched stop, but only once the robot is upright, in range and sensed.
-    char text[192];
-    DescribeFaults(status.hazards, status.state, config_.safety, text, sizeof text, status.backend_fault.data());
-    return Reply(flsd_msgs_STATUS_SAFETY_STOP, std::string("cannot stand: ") + text +
-                                                   (controller_.backend_can_reset() ? "; call reset" : "; put the robot upright"));
+    return Reply(flsd_msgs_STATUS_SAFETY_STOP, "cannot stand: " + HazardText(status));
   }
   control.kind = call == "stand" ? ControlRequest::Kind::kStand
                  : call == "stop" ? ControlRequest::Kind::kStop
@@ -229,18 +253,53 @@ ReplyContent RequestHandler::Motion(const flsd_msgs_Request& request, const std:
 }
 
 std::string RequestHandler::MotionBlocked(const ControllerStatus& status) const {
+  if (status.faults & kFaultStop) return EmergencyStopText(status);
   if (status.faults != 0) {
     return std::string("a safety stop is latched (") + status.fault_message.data() + "); call stand first";
   }
-  if (status.hazards != 0) {
-    char text[192];
-    DescribeFaults(status.hazards, status.state, config_.safety, text, sizeof text, status.backend_fault.data());
-    return std::string("cannot start moving: ") + text;
-  }
+  if (status.hazards != 0) return "cannot start moving: " + HazardText(status);
   return "";
 }
 
-ReplyContent RequestHandler::Velocity(const flsd_msgs_Request& request, const std::string& client_id) {
+std::string RequestHandler::EmergencyStopText(const ControllerStatus& status) const {
+  const std::string who = status.stop_client[0] != '\0' ? status.stop_client.data() : "the server";
+  return "an emergency stop from " + who + " is latched; call clear_stop (" + who + " may at once, any client after " +
+         Seconds(config_.safety.stop_hold_time) + "), then stand";
+}
+
+std::string RequestHandler::HazardText(const ControllerStatus& status) const {
+  char text[192];
+  DescribeFaults(status.hazards, status.state, config_.safety, text, sizeof text, status.backend_fault.data());
+  // The remedy for the cause, not a guess: a robot on its side and a joint out of range are
+  // fixed by hand; a backend fault's own account (a motor out of servo mode, no frames) says what
+  // is wrong, and only the robot can fix it.
+  std::string remedy;
+  if (controller_.backend_can_reset()) {
+    remedy = "; call reset";
+  } else if (status.hazards & kFaultTilt) {
+    remedy = "; put the robot upright";
+  } else if (status.hazards & kFaultJointRange) {
+    remedy = "; move the joint back into its range";
+  }
+  return text + remedy;
+}
+
+ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
+  const ControllerStatus status = controller_.status();
+  if (!(status.faults & kFaultStop)) return Reply(flsd_msgs_STATUS_OK, "no emergency stop is latched");
+  const double held = status.time - status.stop_time;
+  if (client_id != status.stop_client.data() && held < config_.safety.stop_hold_time) {
+    return Reply(flsd_msgs_STATUS_SAFETY_STOP, EmergencyStopText(status) + " (" +
+                                                   Seconds(config_.safety.stop_hold_time - held) + " left)");
+  }
+  ControlRequest clear;
+  clear.kind = ControlRequest::Kind::kClearStop;
+  if (!Submit(clear, client_id, 0)) return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+  return Reply(flsd_msgs_STATUS_OK, "emergency stop cleared; the robot stays damped until stand");
+}
+
+std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, const std::string& client_id,
+                                                     const DeferredReply& later) {
   const std::string call = request.call;
   if (!controller_.has_selector()) {
     return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, call + " is not available: the skill library " +
@@ -251,6 +310,7 @@ ReplyContent RequestHandler::Velocity(const flsd_msgs_Request& request, const st
   control.kind = ControlRequest::Kind::kVelocity;
   std::string accepted;
   std::optional<NavigationJob> job;
+  std::string map_yaml;
   if (call == "track_velocity") {
     if (!AllFinite(request.velocity, 3)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "velocity must be finite");
     if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
@@ -282,13 +342,14 @@ ReplyContent RequestHandler::Velocity(const flsd_msgs_Request& request, const st
     if (navigator_ == nullptr) return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "navigate is not available on this server");
     job.emplace();
     job->goal = Eigen::Vector2d(request.goal[0], request.goal[1]);
-    const std::string map_yaml = request.map_yaml != nullptr ? request.map_yaml : "";
+    map_yaml = request.map_yaml != nullptr ? request.map_yaml : "";
+    if (map_yaml.size() > Map2D::kMaxTextBytes) {  // read on the navigator's thread, but not kept unread
+      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "map_yaml has " + std::to_string(map_yaml.size()) +
+                                                          " bytes; a map may have at most " +
+                                                          std::to_string(Map2D::kMaxTextBytes));
+    }
     if (!map_yaml.empty()) {
-      try {
-        job->map = Map2D::Parse(map_yaml, "the request's map");
-      } catch (const InputError& e) {
-        return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, e.what());
-      }
+      FLSD_DEMAND(later != nullptr);  // the caller must take a reply from the navigator's thread
     } else if (default_map_) {
       job->map = *default_map_;
     } else {
@@ -312,18 +373,31 @@ ReplyContent RequestHandler::Velocity(const flsd_msgs_Request& request, const st
   if (const std::string blocked = MotionBlocked(controller_.status()); !blocked.empty()) {
     return Reply(flsd_msgs_STATUS_SAFETY_STOP, blocked);
   }
-  if (!Submit(control, client_id, request.header.request_id)) {
-    return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
-  }
+  accepted += "; progress is on the state topic";
   if (job) {
     SetText(job->client_id, client_id.c_str());
     job->request_id = request.header.request_id;
-    navigator_->Start(std::move(*job));
   }
-  return Reply(flsd_msgs_STATUS_OK, accepted + "; progress is on the state topic");
+  if (!map_yaml.empty()) {  // the navigator reads the map, submits the task and answers
+    navigator_->Cancel();
+    SetText(control.client_id, client_id.c_str());
+    control.request_id = request.header.request_id;
+    navigator_->Start(MapRequest{std::move(*job), std::move(map_yaml), control, accepted,
+                                 [later](flsd_msgs_ReplyStatus status, const std::string& message) {
+                                   later(Reply(status, message));
+                                 }});
+    return std::nullopt;
+  }
+  if (!Submit(control, client_id, request.header.request_id)) {
+    return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+  }
+  if (job) navigator_->Start(std::move(*job));
+  return Reply(flsd_msgs_STATUS_OK, accepted);
 }
 
 bool RequestHandler::Submit(ControlRequest request, const std::string& client_id, uint64_t request_id) {
+  // A navigation accepted before this request must not start after it.
+  if (navigator_ != nullptr) navigator_->Cancel();
   SetText(request.client_id, client_id.c_str());
   request.request_id = request_id;
   return controller_.Submit(request);

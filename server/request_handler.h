@@ -4,7 +4,9 @@
 // thread; time is passed in, so tests need no sleeps. Every request gets a reply with a reason,
 // except those dropped by the rate limit, which are counted.
 
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -23,6 +25,8 @@ struct ReplyContent {
   std::string safety_report;  // safety trips this client has not been told of
 };
 
+using DeferredReply = std::function<void(const ReplyContent&)>;
+
 class RequestHandler {
  public:
   // `navigator` (may be null: navigate is then not available) must outlive the handler. The
@@ -30,8 +34,11 @@ class RequestHandler {
   RequestHandler(Controller& controller, const ServerConfig& config, Navigator* navigator = nullptr);
 
   // `now`: monotonic seconds; `wall_ns`: CLOCK_REALTIME ns (request deadlines are wall times).
-  // nullopt: dropped by the rate limit (counted in dropped()).
-  std::optional<ReplyContent> Handle(const flsd_msgs_Request& request, double now, int64_t wall_ns);
+  // nullopt: no reply now: dropped by the rate limit (counted in dropped()), or answered later
+  // through `later`, from the navigator's thread (navigate with a map of its own, once the map is
+  // read: reading it must not hold up the requests behind it).
+  std::optional<ReplyContent> Handle(const flsd_msgs_Request& request, double now, int64_t wall_ns,
+                                     const DeferredReply& later = nullptr);
 
   // Lets a silent controller's lease lapse; the robot then stands. Call at least every 50 ms.
   void Poll(double now);
@@ -40,7 +47,10 @@ class RequestHandler {
   const std::string& controller_id() const { return lease_.holder(); }
 
   static constexpr std::size_t kMaxClientIdLength = sizeof(ClientId) - 1;
+  // Per-client state is kept for this many clients; the longest silent is forgotten beyond it.
   static constexpr std::size_t kMaxClients = 256;
+  // The highest request id of forgotten clients, by a hash of their ids: bounded memory, no replay.
+  static constexpr std::size_t kIdFloorBuckets = 1024;
 
  private:
   struct ClientState {
@@ -52,12 +62,23 @@ class RequestHandler {
   };
 
   ClientState& Client(const std::string& id, double now);
+  static std::size_t FloorBucket(const std::string& id);
   bool TakeToken(ClientState& client, double now);
-  ReplyContent Dispatch(const flsd_msgs_Request& request, const std::string& client_id, double now);
-  ReplyContent Motion(const flsd_msgs_Request& request, const std::string& client_id, double now);
-  ReplyContent Velocity(const flsd_msgs_Request& request, const std::string& client_id);
+  // nullopt: answered through `later`.
+  std::optional<ReplyContent> Dispatch(const flsd_msgs_Request& request, const std::string& client_id, double now,
+                                       const DeferredReply& later);
+  std::optional<ReplyContent> Motion(const flsd_msgs_Request& request, const std::string& client_id,
+                                     const DeferredReply& later);
+  std::optional<ReplyContent> Velocity(const flsd_msgs_Request& request, const std::string& client_id,
+                                       const DeferredReply& later);
+  // A stop of `client_id`'s task, never lost to a full queue, and of a navigation still reading its map.
+  void StopTaskOf(const std::string& client_id, flsd_msgs_TaskState state, const std::string& reason);
   // Why the robot cannot start moving now (a latched stop, a hazard), or empty.
   std::string MotionBlocked(const ControllerStatus& status) const;
+  // Who may clear the latched emergency stop, and how; what forbids stiffening the joints and its remedy.
+  std::string EmergencyStopText(const ControllerStatus& status) const;
+  std::string HazardText(const ControllerStatus& status) const;
+  ReplyContent ClearStop(const std::string& client_id);
   bool Submit(ControlRequest request, const std::string& client_id, uint64_t request_id);
   std::string StatusText(const ControllerStatus& status) const;
 
@@ -67,6 +88,7 @@ class RequestHandler {
   std::optional<Map2D> default_map_;
   ControlLease lease_;
   std::unordered_map<std::string, ClientState> clients_;
+  std::array<uint64_t, kIdFloorBuckets> id_floors_{};  // only rise
   uint64_t dropped_ = 0;
 };
 

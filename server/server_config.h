@@ -25,6 +25,8 @@ struct SafetyConfig {
   double max_power = 1000.0;       // W, sum of |tau qdot| (the SDK's PowerProtect at its level 10)
   double max_power_time = 0.1;     // s above max_power before a trip
   double damping_kd = 1.0;             // N m s / rad of the damped (safe) command
+  // s after which any client may clear an emergency stop; before, only the client that pressed it.
+  double stop_hold_time = 10.0;
   // Skills that fell sooner than this in the library's own evaluation (steps of 20 ms) are
   // refused: an unsupervised skill can be one that throws the robot down. 0 allows all.
   int min_skill_survival = 500;
@@ -39,7 +41,32 @@ struct SafetyConfig {
     v("max_power", max_power, Bounds<double>{10.0, 10000.0});
     v("max_power_time", max_power_time, Bounds<double>{0.0, 10.0});
     v("damping_kd", damping_kd, Bounds<double>{0.0, 10.0});
+    v("stop_hold_time", stop_hold_time, Bounds<double>{0.0, 86400.0});
     v("min_skill_survival", min_skill_survival, Bounds<int>{0, 1000000});
+  }
+};
+
+// What counts as standing: a skill, a velocity task or a navigation starts only from a stand
+// that meets all of these (the state its policy was trained from), never from a stand that merely
+// ran for its time. A robot that does not get there lies down and stands up again; one that still
+// does not after max_recoveries has its task ended with the reason.
+struct StandCheckConfig {
+  double max_tilt = 0.2;             // rad from upright (0.01-0.03 when standing on flat ground)
+  double min_base_height = 0.2;      // m (0.24-0.25 at the training gains); 0 turns it off
+  double max_joint_error = 0.35;     // rad from the default pose (Kp 20 sags 0.24-0.28 under the body)
+  double max_joint_speed = 1.0;      // rad/s, every joint
+  double max_base_speed = 0.2;       // m/s
+  double timeout = 1.5;              // s after the stand settled without meeting them: recover
+  int max_recoveries = 2;            // lie-down and stand-up sequences per request
+  template <class V>
+  void Visit(V& v) {
+    v("max_tilt", max_tilt, Bounds<double>{0.01, 1.0});
+    v("min_base_height", min_base_height, Bounds<double>{0.0, 0.5});
+    v("max_joint_error", max_joint_error, Bounds<double>{0.01, 3.0});
+    v("max_joint_speed", max_joint_speed, Bounds<double>{0.01, 30.0});
+    v("max_base_speed", max_base_speed, Bounds<double>{0.01, 5.0});
+    v("timeout", timeout, Bounds<double>{0.02, 60.0});
+    v("max_recoveries", max_recoveries, Bounds<int>{0, 10});
   }
 };
 
@@ -74,6 +101,7 @@ struct ServerConfig {
   int request_burst = 100;
   int control_priority = 80;  // SCHED_FIFO priority of the control loop; 0: the normal scheduler
   int cpu_latency_us = 0;     // /dev/cpu_dma_latency while serving (0: idle CPUs poll); -1: untouched
+  StandCheckConfig stand_check;
   SafetyConfig safety;
   NavigationConfig navigation;
   SimBackendConfig sim;
@@ -91,6 +119,7 @@ struct ServerConfig {
     v("request_burst", request_burst, Bounds<int>{1, 100000});
     v("control_priority", control_priority, Bounds<int>{0, 99});
     v("cpu_latency_us", cpu_latency_us, Bounds<int>{-1, 1000000});
+    v("stand_check", stand_check);
     v("safety", safety);
     v("navigation", navigation);
     v("sim", sim);

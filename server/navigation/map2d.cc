@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -38,9 +39,25 @@ bool Inside(const Eigen::Vector2d& p, const Map2D::Polygon& polygon) {
   return inside;
 }
 
+// A length in [-kMaxExtent, kMaxExtent].
+double Length(const YAML::Node& node, const std::string& where) {
+  const double v = node.as<double>();
+  if (!(std::abs(v) <= Map2D::kMaxExtent)) {
+    char text[128];
+    std::snprintf(text, sizeof text, ": expected a finite number within [%g, %g] m, got %g", -Map2D::kMaxExtent,
+                  Map2D::kMaxExtent, v);
+    throw InputError(where + text);
+  }
+  return v;
+}
+
 }  // namespace
 
 Map2D Map2D::Parse(const std::string& text, const std::string& source) {
+  if (text.size() > kMaxTextBytes) {
+    throw InputError(source + ": " + std::to_string(text.size()) + " bytes; a map may have at most " +
+                     std::to_string(kMaxTextBytes));
+  }
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -49,6 +66,14 @@ Map2D Map2D::Parse(const std::string& text, const std::string& source) {
   }
   if (!root.IsMap()) throw InputError(source + ": expected a map with bounds, robot_radius, circles, polygons");
   Map2D map;
+  std::size_t points = 0;  // as read, aliases counted each time they are used
+  const auto count = [&](std::size_t n, const std::string& where) {
+    points += n;
+    if (points > kMaxShapePoints) {
+      throw InputError(where + ": more than " + std::to_string(kMaxShapePoints) +
+                       " polygon points and circles in the map (YAML aliases count each time they are used)");
+    }
+  };
   try {
     for (const auto& entry : root) {
       const std::string key = entry.first.as<std::string>();
@@ -56,10 +81,13 @@ Map2D Map2D::Parse(const std::string& text, const std::string& source) {
       const std::string where = source + ": " + key;
       if (key == "bounds") {
         if (!value.IsSequence() || value.size() != 4) throw InputError(where + ": expected [x_min, x_max, y_min, y_max]");
-        map.x_min = value[0].as<double>();
-        map.x_max = value[1].as<double>();
-        map.y_min = value[2].as<double>();
-        map.y_max = value[3].as<double>();
+        static const char* const kNames[] = {"x_min", "x_max", "y_min", "y_max"};
+        double b[4];
+        for (int i = 0; i < 4; ++i) b[i] = Length(value[i], where + "[" + std::to_string(i) + "] (" + kNames[i] + ")");
+        map.x_min = b[0];
+        map.x_max = b[1];
+        map.y_min = b[2];
+        map.y_max = b[3];
         if (!(map.x_min < map.x_max && map.y_min < map.y_max)) throw InputError(where + ": expected min < max");
       } else if (key == "robot_radius") {
         map.robot_radius = value.as<double>();
@@ -67,7 +95,8 @@ Map2D Map2D::Parse(const std::string& text, const std::string& source) {
       } else if (key == "circles") {
         for (size_t i = 0; i < value.size(); ++i) {
           const std::string at = where + "[" + std::to_string(i) + "]";
-          Circle c{Point(value[i]["center"], at + ".center"), value[i]["radius"].as<double>()};
+          count(1, at);
+          Circle c{Point(value[i]["center"], at + ".center"), Length(value[i]["radius"], at + ".radius")};
           if (!(c.radius > 0.0)) throw InputError(at + ".radius: expected a positive radius");
           map.circles.push_back(c);
         }
@@ -75,6 +104,7 @@ Map2D Map2D::Parse(const std::string& text, const std::string& source) {
         for (size_t i = 0; i < value.size(); ++i) {
           const std::string at = where + "[" + std::to_string(i) + "]";
           if (!value[i].IsSequence() || value[i].size() < 3) throw InputError(at + ": expected at least 3 points");
+          count(value[i].size(), at);
           Polygon polygon;
           for (size_t k = 0; k < value[i].size(); ++k) polygon.push_back(Point(value[i][k], at + "[" + std::to_string(k) + "]"));
           map.polygons.push_back(std::move(polygon));

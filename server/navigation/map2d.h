@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,13 @@ struct Map2D {
   double robot_radius = 0.35;  // m: the A1 is 0.5 m long, 0.3 m wide, and its stride reaches
   std::vector<Circle> circles;
   std::vector<Polygon> polygons;
+
+  // What a map may hold, so that reading one and every collision check against it stay cheap
+  // whatever a client sends: YAML aliases count as often as they are used (a few bytes of `*p`
+  // can stand for thousands of points), and bounds stay finite and near (OMPL samples in them).
+  static constexpr std::size_t kMaxTextBytes = 64 * 1024;
+  static constexpr std::size_t kMaxShapePoints = 4096;  // polygon vertices plus circles
+  static constexpr double kMaxExtent = 1000.0;          // m, |any bound| and any radius
 
   // Parses YAML `text`; `source` names it in messages ("configs/maps/wall.yaml", "request").
   // Throws InputError naming the key and what was expected.

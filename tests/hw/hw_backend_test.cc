@@ -118,13 +118,52 @@ TEST_F(HwBackendTest, LateFramesAreAStaleStateFault) {
   EXPECT_THAT(WaitForFault(2s), HasSubstr("no valid state frame"));
 }
 
-TEST_F(HwBackendTest, AFrozenSensorIsAFault) {
+TEST_F(HwBackendTest, AHungImuIsAFaultWhileTheEncodersStillMove) {
   Connect();
   ASSERT_TRUE(backend_->Preflight().empty());
   EmulatorFaults faults;
-  faults.frozen_sensors = true;
+  faults.frozen_imu = true;
   emulator_->SetFaults(faults);
-  EXPECT_THAT(WaitForFault(1s), HasSubstr("frozen"));
+  EXPECT_THAT(WaitForFault(1s), HasSubstr("IMU readings frozen"));
+}
+
+TEST_F(HwBackendTest, HungEncodersAreAFaultOnceTheMotorsHold) {
+  Connect();
+  ASSERT_TRUE(backend_->Preflight().empty());
+  EmulatorFaults faults;
+  faults.frozen_joints = true;
+  emulator_->SetFaults(faults);
+  // A robot lying still without torque may read the same angles: no fault yet.
+  EXPECT_EQ(WaitForFault(300ms), "");
+  const auto until = std::chrono::steady_clock::now() + 1s;
+  std::string fault;
+  while (fault.empty() && std::chrono::steady_clock::now() < until) {  // a control loop holding the pose
+    backend_->Send(JointCommand::Track(a1::kDefaultJointPos));
+    std::this_thread::sleep_for(20ms);
+    fault = backend_->Fault();
+  }
+  EXPECT_THAT(fault, HasSubstr("joint encoder readings frozen"));
+}
+
+TEST_F(HwBackendTest, PreflightSaysSoWhenEveryFrameIsMalformed) {
+  EmulatorFaults faults;
+  faults.corrupt_fraction = 1.0;
+  emulator_->SetFaults(faults);
+  Connect();
+  const std::vector<std::string> failures = backend_->Preflight();
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_THAT(failures[0], ::testing::MatchesRegex("[0-9]+ of [0-9]+ state frames were malformed \\([0-9]+ bad CRC.*"));
+  EXPECT_THAT(failures[0], HasSubstr("firmware or frame-size mismatch"));
+}
+
+TEST_F(HwBackendTest, PreflightNamesAMotorOutOfServoMode) {
+  EmulatorFaults faults;
+  faults.dead_motor = 7;
+  emulator_->SetFaults(faults);
+  Connect();
+  const std::vector<std::string> failures = backend_->Preflight();
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_THAT(failures[0], HasSubstr("RR_thigh_joint motor reports mode 0x00, not servo mode (0x0A)"));
 }
 
 TEST_F(HwBackendTest, ADeadMotorIsAFaultOnceItIsCommanded) {

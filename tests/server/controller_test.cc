@@ -7,9 +7,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
@@ -83,7 +86,7 @@ TEST_F(ControllerTest, ASkillFromIdleStandsUpFirstAndCountsTheStandInItsRemainin
   EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_SUCCEEDED);
 }
 
-TEST_F(ControllerTest, DampLatchesUntilStandAndIgnoresSkillsMeanwhile) {
+TEST_F(ControllerTest, DampLatchesUntilClearedAndIgnoresStandsAndSkillsMeanwhile) {
   StandUp();
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 5.0)));
   RunFor(1.0);
@@ -101,8 +104,16 @@ TEST_F(ControllerTest, DampLatchesUntilStandAndIgnoresSkillsMeanwhile) {
   RunFor(0.5);
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
 
-  StandUp();
+  // Nor does a stand lift it: only a clear, after which the robot lies damped until it stands.
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kStand)));
+  RunFor(0.5);
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_STREQ(controller_.status().stop_client.data(), "test-client");
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kClearStop)));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
   EXPECT_EQ(controller_.status().faults, 0u);
+  StandUp();
 }
 
 TEST_F(ControllerTest, ASkillThatRacesADampEndsAsASafetyStopInsteadOfVanishing) {
@@ -271,7 +282,7 @@ TEST_F(ControllerTest, UpdatesAndStopsForAnotherTaskAreIgnored) {
   SetText(update.reason, "stale");
   ControlRequest stop = Request(Kind::kStop);
   stop.request_id = 7;
-  stop.only_this_task = true;
+  stop.scope = ControlRequest::Scope::kTask;
   stop.stop_state = flsd_msgs_TASK_NO_PATH;
   ASSERT_TRUE(controller_.Submit(update));
   ASSERT_TRUE(controller_.Submit(stop));
@@ -360,6 +371,70 @@ TEST_F(ControllerTest, TheVelocityTickAllocatesNothing) {
               for (int i = 0; i < 100; ++i) controller_.Tick();
             }),
             0);
+}
+
+
+// Skills back to back, without a reset between them, as a real robot must run them: each starts
+// only once the robot stands within config.stand_check (a stand left tilted or crouched by the
+// skill before is recovered by lying down and standing up again), and none falls.
+TEST_F(ControllerTest, SkillsRunBackToBackOnlyFromAVerifiedStand) {
+  std::vector<std::pair<double, int>> fastest;  // as make demo picks them
+  for (const SkillDescriptor& d : controller_.library().skills()) {
+    fastest.emplace_back(std::hypot(d.mean_linear_velocity[0], d.mean_linear_velocity[1]) +
+                             0.3 * std::abs(d.mean_angular_velocity[2]),
+                         d.id);
+  }
+  std::sort(fastest.rbegin(), fastest.rend());
+  StandUp();
+  const StandCheckConfig& check = config_.stand_check;
+  for (int i = 0; i < 4; ++i) {
+    const int k = fastest[i].second;
+    ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, k, 4.0)));
+    controller_.Tick();
+    for (int t = 0; t < 1000 && controller_.status().mode == flsd_msgs_MODE_STAND; ++t) controller_.Tick();
+    ControllerStatus s = controller_.status();
+    ASSERT_EQ(s.mode, flsd_msgs_MODE_SKILL) << "skill " << k << ": " << s.task.message.data();
+    EXPECT_LE(SafetySupervisor::Tilt(s.state), check.max_tilt) << k;
+    EXPECT_GE(s.state.base_position.z(), check.min_base_height) << k;
+    EXPECT_LE(MaxJointError(s.state), check.max_joint_error + 0.05) << k;  // one policy tick in
+    for (int t = 0; t < 300 && s.task.state == flsd_msgs_TASK_RUNNING; ++t) {
+      controller_.Tick();
+      s = controller_.status();
+    }
+    EXPECT_EQ(s.task.state, flsd_msgs_TASK_SUCCEEDED) << "skill " << k << ": " << s.task.message.data();
+    ASSERT_EQ(s.faults, 0u) << "skill " << k << ": " << s.fault_message.data();
+  }
+}
+
+// A robot that cannot be brought to a verified stand lies down and stands up again, and then has
+// its skill refused with the reason, rather than started from wherever it is.
+TEST(ControllerStandCheck, ARobotThatDoesNotStandHasItsSkillEndedWithTheReason) {
+  ServerConfig config;
+  config.stand_check.max_joint_error = 0.01;  // no robot stands this exactly
+  config.stand_check.max_recoveries = 1;
+  SimBackend backend{SimBackendConfig{}};
+  Controller controller(backend, testutil::ShippedLibrary(), config);
+  ControlRequest skill;
+  skill.kind = ControlRequest::Kind::kSkill;
+  skill.skill = 0;
+  skill.duration = 2.0;
+  ASSERT_TRUE(controller.Submit(skill));
+  double lowest = HUGE_VAL;  // once it has stood
+  bool stood = false;
+  for (int t = 0; t < 1000 && controller.status().task.state != flsd_msgs_TASK_SAFETY_STOP; ++t) {
+    controller.Tick();
+    const ControllerStatus s = controller.status();
+    ASSERT_NE(s.mode, flsd_msgs_MODE_SKILL);
+    stood |= s.state.base_position.z() > 0.22;
+    if (stood) lowest = std::min(lowest, s.state.base_position.z());
+  }
+  const ControllerStatus s = controller.status();
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SAFETY_STOP);
+  EXPECT_THAT(s.task.message.data(), HasSubstr("not standing after 1 lie-down and stand-up recoveries ("));
+  EXPECT_THAT(s.task.message.data(), HasSubstr("off the stand > 0.01"));
+  EXPECT_LT(lowest, 0.1);  // it lay down once, between its two stands
+  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(s.faults, 0u);
 }
 
 }  // namespace

@@ -7,7 +7,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <climits>
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <cstdio>
 #include <iterator>
 #include <string>
@@ -94,7 +97,7 @@ TEST_F(RequestHandlerTest, AnyClientMayDamp) {
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
   const ReplyContent skill = Skill("a", 0, 1.0, 0.2);
   EXPECT_EQ(skill.status, flsd_msgs_STATUS_SAFETY_STOP);
-  EXPECT_THAT(skill.message, HasSubstr("call stand first"));
+  EXPECT_THAT(skill.message, HasSubstr("an emergency stop from b is latched; call clear_stop"));
 }
 
 TEST_F(RequestHandlerTest, DampGetsThroughAQueueFloodedByTheController) {
@@ -164,13 +167,40 @@ TEST_F(RequestHandlerTest, VelocityOutsideTheTrainedRangeIsClippedAndTheReplySay
   EXPECT_GT(RunFor(3.0, flsd_msgs_MODE_VELOCITY), 0);
 }
 
+// Answers that come later, from the navigator's thread.
+class LaterReplies {
+ public:
+  DeferredReply sink() {
+    return [this](const ReplyContent& r) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      replies_.push_back(r);
+      arrived_.notify_all();
+    };
+  }
+  // The next one, or a default ReplyContent (STATUS_OK, no message) after 10 s.
+  ReplyContent Next() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    arrived_.wait_for(lock, std::chrono::seconds(10), [&] { return taken_ < replies_.size(); });
+    return taken_ < replies_.size() ? replies_[taken_++] : ReplyContent{flsd_msgs_STATUS_INTERNAL, "no reply"};
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::vector<ReplyContent> replies_;
+  std::size_t taken_ = 0;
+};
+
 TEST_F(RequestHandlerTest, NavigateNeedsANavigatorAndAMapThatParses) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
-  auto navigate = [](RequestHandler& handler, uint64_t id, const char* map_yaml) {
+  LaterReplies later;
+  // The reply now, or the one the navigator sends once it has read the map.
+  auto navigate = [&](RequestHandler& handler, uint64_t id, const std::string& map_yaml) {
     TestRequest r("a", id, "navigate");
     r.msg.goal[0] = 1.0;
-    r.msg.map_yaml = const_cast<char*>(map_yaml);
-    return handler.Handle(r.msg, 0.0, kWallNow).value_or(ReplyContent{});
+    r.msg.map_yaml = const_cast<char*>(map_yaml.c_str());
+    const std::optional<ReplyContent> now = handler.Handle(r.msg, 0.0, kWallNow, later.sink());
+    return now ? *now : later.Next();
   };
   EXPECT_EQ(navigate(handler_, 10, "").status, flsd_msgs_STATUS_NOT_AVAILABLE);  // no navigator here
 
@@ -183,7 +213,16 @@ TEST_F(RequestHandlerTest, NavigateNeedsANavigatorAndAMapThatParses) {
   const ReplyContent bad_map = navigate(handler, 3, "bounds: [1, 2]\n");
   EXPECT_EQ(bad_map.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
   EXPECT_THAT(bad_map.message, HasSubstr("the request's map"));
-  const ReplyContent ok = navigate(handler, 4, "bounds: [-5, 5, -5, 5]\n");
+  // Bounds OMPL cannot sample in are refused, naming the bound.
+  for (const char* bounds : {"[-.inf, .inf, -5, 5]", "[-1e300, 1e300, -5, 5]"}) {
+    const ReplyContent r = navigate(handler, 4 + (bounds[2] == '1'), std::string("bounds: ") + bounds + "\n");
+    EXPECT_EQ(r.status, flsd_msgs_STATUS_INVALID_ARGUMENT) << bounds;
+    EXPECT_THAT(r.message, HasSubstr("bounds[0] (x_min): expected a finite number within [-1000, 1000] m")) << bounds;
+  }
+  const ReplyContent too_big = navigate(handler, 6, std::string(Map2D::kMaxTextBytes + 1, ' '));
+  EXPECT_EQ(too_big.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_THAT(too_big.message, HasSubstr("a map may have at most 65536"));
+  const ReplyContent ok = navigate(handler, 7, "bounds: [-5, 5, -5, 5]\n");
   EXPECT_EQ(ok.status, flsd_msgs_STATUS_OK) << ok.message;
   EXPECT_THAT(ok.message, HasSubstr("planning"));
 }
@@ -238,6 +277,22 @@ TEST_F(RequestHandlerTest, RepeatedOrOldRequestIdsAreNotExecuted) {
   EXPECT_EQ(handler_.Handle(other.msg, 0.3, kWallNow)->status, flsd_msgs_STATUS_OK);
 }
 
+TEST_F(RequestHandlerTest, AForgottenClientCannotReplayItsRequests) {
+  TestRequest first("e", 777, "status");
+  ASSERT_EQ(handler_.Handle(first.msg, 0.0, kWallNow)->status, flsd_msgs_STATUS_OK);
+  for (std::size_t i = 0; i < RequestHandler::kMaxClients + 44; ++i) {  // E is forgotten
+    // Ids from a clock, as flsd::Client takes them: a newcomer's clear any forgotten client's.
+    TestRequest other("other-" + std::to_string(i), 1000 + i, "status");
+    ASSERT_EQ(handler_.Handle(other.msg, 0.001 * (i + 1), kWallNow)->status, flsd_msgs_STATUS_OK);
+  }
+  TestRequest replay("e", 777, "status");
+  const ReplyContent r = *handler_.Handle(replay.msg, 1.0, kWallNow);
+  EXPECT_EQ(r.status, flsd_msgs_STATUS_DUPLICATE);
+  EXPECT_THAT(r.message, HasSubstr("request_id 777 is not above 777"));
+  TestRequest next("e", 2000, "status");  // E goes on with later ids
+  EXPECT_EQ(handler_.Handle(next.msg, 1.1, kWallNow)->status, flsd_msgs_STATUS_OK);
+}
+
 TEST_F(RequestHandlerTest, RequestsPastTheirDeadlineAreNotExecuted) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
   TestRequest late("a", 100, "stand");
@@ -247,6 +302,23 @@ TEST_F(RequestHandlerTest, RequestsPastTheirDeadlineAreNotExecuted) {
   EXPECT_THAT(r.message, HasSubstr("arrived 0.25 s after its deadline"));
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+  // A deadline before 1970 is no time at all: refused by name, not by an overflowed lateness.
+  TestRequest ancient("a", 101, "stand");
+  ancient.msg.header.deadline_ns = INT64_MIN;
+  const ReplyContent refused = *handler_.Handle(ancient.msg, 0.2, kWallNow);
+  EXPECT_EQ(refused.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_THAT(refused.message, HasSubstr("deadline_ns must be 0 (none) or a CLOCK_REALTIME time in ns, got -9223372036854775808"));
+}
+
+TEST_F(RequestHandlerTest, EveryRequestOfTheHolderRenewsTheLease) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  for (double t = 0.5; t < 5.0; t += 0.5) {
+    EXPECT_EQ(Send("a", "status", t).status, flsd_msgs_STATUS_OK);
+    handler_.Poll(t + 0.49);
+    EXPECT_EQ(handler_.controller_id(), "a") << t;
+  }
+  handler_.Poll(5.51);  // 1.01 s of silence after the last status
+  EXPECT_EQ(handler_.controller_id(), "");
 }
 
 TEST_F(RequestHandlerTest, AFloodIsDroppedAndCountedAndTheServerKeepsAnswering) {
@@ -300,6 +372,63 @@ TEST_F(RequestHandlerTest, StandIsRefusedWhileTheRobotLiesOnItsSide) {
   EXPECT_EQ(Send("a", "reset", 0.7).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+}
+
+TEST_F(RequestHandlerTest, AnEmergencyStopLatchesUntilItsPresserOrTheHoldTimeClearsIt) {
+  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "stand").status, flsd_msgs_STATUS_OK);
+  RunFor(3.0);
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
+  controller_.Tick();
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  // The holder's next stand does not undo it, on either side of the queue.
+  const ReplyContent stand = Send("a", "stand", 0.12);
+  EXPECT_EQ(stand.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_THAT(stand.message, HasSubstr("an emergency stop from b is latched; call clear_stop"));
+  ControlRequest raced;
+  raced.kind = ControlRequest::Kind::kStand;
+  ASSERT_TRUE(controller_.Submit(raced));
+  RunFor(0.5);
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  const ReplyContent early = Send("a", "clear_stop", 0.2);
+  EXPECT_EQ(early.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_THAT(early.message, HasSubstr("b may at once, any client after 10.00 s"));
+  EXPECT_THAT(early.message, HasSubstr("left)"));
+  // The presser may clear it at once; the robot stays damped until it is told to stand.
+  EXPECT_EQ(Send("b", "clear_stop", 0.3).status, flsd_msgs_STATUS_OK);
+  RunFor(0.5);
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+  EXPECT_EQ(controller_.status().faults, 0u);
+  EXPECT_EQ(Send("a", "stand", 0.4).status, flsd_msgs_STATUS_OK);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+
+  // Anyone may clear it once it has been held for stop_hold_time.
+  EXPECT_EQ(Send("b", "damp", 0.5).status, flsd_msgs_STATUS_OK);
+  RunFor(config_.safety.stop_hold_time + 0.1);
+  EXPECT_EQ(Send("a", "clear_stop", 0.6).status, flsd_msgs_STATUS_OK);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+}
+
+TEST_F(RequestHandlerTest, ReleasingControlStopsOnlyTheReleasersTask) {
+  ASSERT_EQ(Send("x", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Skill("x", 0, 30.0).status, flsd_msgs_STATUS_OK);
+  RunFor(3.0);  // control time; the handler's clock stands still
+  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  // Within one tick: X hands over, Y takes control and starts a skill of its own.
+  EXPECT_EQ(Send("x", "release_control", 0.5).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("y", "acquire_control", 0.501).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Skill("y", 1, 3.0, 0.502).status, flsd_msgs_STATUS_OK);
+  controller_.Tick();
+  const ControllerStatus s = controller_.status();
+  EXPECT_EQ(s.task.state, flsd_msgs_TASK_RUNNING) << s.task.message.data();
+  EXPECT_STREQ(s.task.client_id.data(), "y");
+  // Y's own lease, when it lapses, ends Y's task.
+  handler_.Poll(1.6);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_LEASE_LOST);
 }
 
 TEST_F(RequestHandlerTest, ReleasingControlStopsTheMotion) {

@@ -19,12 +19,17 @@ int main(int argc, char** argv) {
   app.add_option("--corrupt", faults.corrupt_fraction, "Fraction of state frames with a broken CRC")
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--late-ms", faults.late_ms, "Delay of every state frame")->check(CLI::Range(0.0, 10000.0));
-  app.add_flag("--frozen", faults.frozen_sensors, "IMU and joint readings stop changing");
+  bool frozen = false;
+  app.add_flag("--frozen", frozen, "IMU and joint readings stop changing");
+  app.add_flag("--frozen-imu", faults.frozen_imu, "IMU readings stop changing");
+  app.add_flag("--frozen-joints", faults.frozen_joints, "Joint encoder readings stop changing");
   app.add_option("--dead-motor", faults.dead_motor, "Joint whose motor gives no torque")->check(CLI::Range(-1, 11));
   double fault_after = 0.0;
   app.add_option("--faults-after", fault_after, "Seconds of healthy running before the faults begin")
       ->check(CLI::Range(0.0, 1e6));
   CLI11_PARSE(app, argc, argv);
+  faults.frozen_imu |= frozen;
+  faults.frozen_joints |= frozen;
 
   flsd::BlockTerminationSignals();
   try {

@@ -6,6 +6,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
 #include "tests/common/test_support.h"
 
 namespace flsd {
@@ -33,6 +37,39 @@ TEST(Map2D, ShippedMapsLoad) {
     const Map2D map = Map2D::Load(std::string("configs/maps/") + name + ".yaml");
     EXPECT_GT(map.x_max, map.x_min) << name;
   }
+}
+
+// A map is bounded whatever a client sends: its size, its points (YAML aliases counted each time
+// they are used: a few bytes of `*p` can stand for thousands of points) and its extent.
+TEST(Map2D, MapsAreBoundedInSizePointsAndExtent) {
+  std::string polygon = "[";
+  for (int i = 0; i < 2000; ++i) {
+    const double a = 2.0 * M_PI * i / 2000;
+    char point[48];
+    std::snprintf(point, sizeof point, "%s[%.2f, %.2f]", i ? ", " : "", 50 + std::cos(a), 50 + std::sin(a));
+    polygon += point;
+  }
+  polygon += "]";
+  std::string bomb = "bounds: [-100, 100, -100, 100]\npolygons:\n  - &p " + polygon + "\n";
+  for (int i = 0; i < 2499; ++i) bomb += "  - *p\n";
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THAT(InputErrorMessage([&] { Map2D::Parse(bomb, "m.yaml"); }),
+              HasSubstr("m.yaml: polygons[2]: more than 4096 polygon points and circles in the map (YAML aliases count"));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
+  // Two uses of the polygon are within the bound.
+  const std::string two = "bounds: [-100, 100, -100, 100]\npolygons:\n  - &p " + polygon + "\n  - *p\n";
+  EXPECT_EQ(Map2D::Parse(two, "m.yaml").polygons.size(), 2u);
+
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse(std::string(Map2D::kMaxTextBytes + 1, '#'), "m.yaml"); }),
+              HasSubstr("m.yaml: 65537 bytes; a map may have at most 65536"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse("bounds: [-5, .inf, -5, 5]", "m.yaml"); }),
+              HasSubstr("m.yaml: bounds[1] (x_max): expected a finite number within [-1000, 1000] m, got inf"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse("bounds: [-5, 5, -1e300, 5]", "m.yaml"); }),
+              HasSubstr("bounds[2] (y_min): expected a finite number within [-1000, 1000] m, got -1e+300"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse("circles: [{center: [0, 0], radius: .inf}]", "m.yaml"); }),
+              HasSubstr("circles[0].radius: expected a finite number"));
+  EXPECT_THAT(InputErrorMessage([] { Map2D::Parse(std::string(5000, '[') + std::string(5000, ']'), "m.yaml"); }),
+              HasSubstr("m.yaml"));
 }
 
 TEST(Map2D, BadMapsAreErrorsThatNameTheKey) {

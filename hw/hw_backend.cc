@@ -30,6 +30,12 @@ bool SameJoints(const LowState& a, const LowState& b) {
   return true;
 }
 
+// Whether the IMU says the body turns: far above its noise (about 0.01 rad/s).
+bool Turning(const LowState& frame) {
+  const auto& g = frame.imu.gyroscope;
+  return std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) > 0.1f;
+}
+
 // How long a sensor's readings have repeated: each sensor is judged on its own, so that a hung
 // IMU is caught while the encoders still move (a fall would otherwise go unseen).
 struct FreezeTimer {
@@ -105,7 +111,7 @@ std::string HwBackend::Fault() const {
       std::snprintf(text, sizeof text, "IMU readings frozen (identical for over %.0f ms)", config_.frozen_after * 1e3);
       break;
     case FaultCode::kFrozenJoints:
-      std::snprintf(text, sizeof text, "joint encoder readings frozen (identical for over %.0f ms while the motors hold)",
+      std::snprintf(text, sizeof text, "joint encoder readings frozen (identical for over %.0f ms while the body turns)",
                     config_.frozen_after * 1e3);
       break;
     case FaultCode::kNoCommand:
@@ -206,10 +212,9 @@ void HwBackend::Run() {
       states_.Write(estimator_.state());
       frames_.Write(frame);
       imu_frozen.Update(have_frame && SameImu(frame, previous), now);
-      // Encoders of a robot lying still may repeat; under stiffness the motors never hold bit-exactly still.
-      bool stiff = false;
-      for (int j = 0; j < a1::kNumJoints; ++j) stiff |= command.kp[j] != 0.0;
-      joints_frozen.Update(stiff && have_frame && SameJoints(frame, previous), now);
+      // The encoders of a robot at rest may repeat (they are quantised, and dq is then 0): they
+      // are frozen only if they repeat while the IMU says the body turns.
+      joints_frozen.Update(have_frame && SameJoints(frame, previous) && Turning(frame), now);
       bool any_mode_bad = false;
       for (int j = 0; j < a1::kNumJoints; ++j) {
         if ((command.kp[j] != 0.0 || command.kd[j] != 0.0) && frame.motors[j].mode != kModeServo) {

@@ -26,7 +26,7 @@ struct HwConfig {
   int robot_port = 8007;
   double rate_hz = 500.0;
   double stale_after = 0.1;   // s without a valid state frame: damp
-  double frozen_after = 0.1;  // s of bit-identical IMU readings, or joint readings under stiffness: damp
+  double frozen_after = 0.1;  // s of bit-identical IMU readings, or joint readings while turning: damp
   double motor_mode_after = 0.05;  // s of a motor not in servo mode while commanded: damp
   double command_timeout = 0.1;    // s without a command from the control loop: the driver damps
   double damping_kd = 1.0;         // N m s / rad of the driver's own damping

@@ -315,11 +315,11 @@ bool Controller::Standing(char* why, std::size_t size) const {
   const double height = state_.base_position.z();
   const double error = std::abs(state_.joint_position[worst_error] - a1::kDefaultJointPos[worst_error]);
   const double speed = std::abs(state_.joint_velocity[fastest]);
-  const double base_speed = state_.base_linear_velocity.norm();
+  const double turn_rate = state_.base_angular_velocity.norm();
   const bool upright = tilt <= c.max_tilt;
   const bool high = c.min_base_height <= 0.0 || height >= c.min_base_height;
   const bool posed = error <= c.max_joint_error;
-  const bool still = speed <= c.max_joint_speed && base_speed <= c.max_base_speed;
+  const bool still = speed <= c.max_joint_speed && turn_rate <= c.max_turn_rate;
   if (upright && high && posed && still) return true;
   if (why == nullptr || size == 0) return false;
   why[0] = '\0';
@@ -331,8 +331,8 @@ bool Controller::Standing(char* why, std::size_t size) const {
   if (!upright) add("%stilt %.2f rad > %.2f", tilt, c.max_tilt);
   if (!high) add("%sbase %.3f m < %.3f", height, c.min_base_height);
   if (!posed) add("%s%s %.2f rad off the stand > %.2f", a1::kJointNames[worst_error], error, c.max_joint_error);
-  if (speed > c.max_joint_speed) add("%s%s at %.1f rad/s > %.1f", a1::kJointNames[fastest], speed, c.max_joint_speed);
-  if (base_speed > c.max_base_speed) add("%sbase at %.2f m/s > %.2f", base_speed, c.max_base_speed);
+  if (!(speed <= c.max_joint_speed)) add("%s%s at %.1f rad/s > %.1f", a1::kJointNames[fastest], speed, c.max_joint_speed);
+  if (!(turn_rate <= c.max_turn_rate)) add("%sbase turning at %.2f rad/s > %.2f", turn_rate, c.max_turn_rate);
   return false;
 }
 

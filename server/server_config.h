@@ -55,7 +55,9 @@ struct StandCheckConfig {
   double min_base_height = 0.2;      // m (0.24-0.25 at the training gains); 0 turns it off
   double max_joint_error = 0.35;     // rad from the default pose (Kp 20 sags 0.24-0.28 under the body)
   double max_joint_speed = 1.0;      // rad/s, every joint
-  double max_base_speed = 0.2;       // m/s
+  // rad/s of the base, as the IMU measures it (the base's linear velocity is only estimated on the
+  // real robot, and drifts by tenths of a m/s while it stands)
+  double max_turn_rate = 0.5;
   double timeout = 1.5;              // s after the stand settled without meeting them: recover
   int max_recoveries = 2;            // lie-down and stand-up sequences per request
   template <class V>
@@ -64,7 +66,7 @@ struct StandCheckConfig {
     v("min_base_height", min_base_height, Bounds<double>{0.0, 0.5});
     v("max_joint_error", max_joint_error, Bounds<double>{0.01, 3.0});
     v("max_joint_speed", max_joint_speed, Bounds<double>{0.01, 30.0});
-    v("max_base_speed", max_base_speed, Bounds<double>{0.01, 5.0});
+    v("max_turn_rate", max_turn_rate, Bounds<double>{0.01, 10.0});
     v("timeout", timeout, Bounds<double>{0.02, 60.0});
     v("max_recoveries", max_recoveries, Bounds<int>{0, 10});
   }

@@ -51,9 +51,12 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
                      const PlannerOptions& options) {
   PlannedPath result;
   const auto begin = std::chrono::steady_clock::now();
-  if (!map.IsFree(start)) {
+  // A robot that has strayed into the margin around an obstacle or the map's edge (a replan after
+  // an overshoot) may still walk out of it: only a start inside an obstacle, or off the map, is
+  // blocked, and states within the robot's radius of the start need only be outside obstacles.
+  if (!(map.Clearance(start) > 0.0)) {
     result.status = PlannedPath::Status::kStartBlocked;
-    result.message = "the start " + Where(start) + " is within the robot's radius of an obstacle or the map's edge";
+    result.message = "the start " + Where(start) + " is inside an obstacle or off the map";
     return result;
   }
   if (!map.IsFree(goal)) {
@@ -71,9 +74,10 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
   bounds.setHigh(1, map.y_max);
   space->setBounds(bounds);
   og::SimpleSetup setup(space);
-  setup.setStateValidityChecker([&map](const ob::State* s) {
+  setup.setStateValidityChecker([&map, &start](const ob::State* s) {
     const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
-    return map.IsFree(Eigen::Vector2d(v->values[0], v->values[1]));
+    const Eigen::Vector2d p(v->values[0], v->values[1]);
+    return map.IsFree(p) || ((p - start).norm() < map.robot_radius && map.Clearance(p) > 0.0);
   });
   const double extent = std::max(map.x_max - map.x_min, map.y_max - map.y_min);
   setup.getSpaceInformation()->setStateValidityCheckingResolution(options.collision_resolution / extent);

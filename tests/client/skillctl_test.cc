@@ -54,14 +54,21 @@ TEST_F(SkillctlTest, AScriptedSessionGetsTheExitCodesItExpects) {
   EXPECT_EQ(code, 4) << out;
   EXPECT_THAT(out, HasSubstr("navigate no path"));
 
-  std::tie(code, out) = Skillctl({"damp"});
+  // The emergency stop latches until whoever pressed it clears it (here the same --id).
+  std::tie(code, out) = Skillctl({"--id", "operator", "damp"});
   EXPECT_EQ(code, 0) << out;
   std::tie(code, out) = Skillctl({"skill", "0", "--duration", "1"});
   EXPECT_EQ(code, 1) << out;
-  EXPECT_THAT(out, HasSubstr("safety stop"));
+  EXPECT_THAT(out, HasSubstr("an emergency stop from operator is latched"));
+  std::tie(code, out) = Skillctl({"stand"});
+  EXPECT_EQ(code, 1) << out;
+  std::tie(code, out) = Skillctl({"clear"});
+  EXPECT_EQ(code, 1) << out;  // another client, before the hold time
+  std::tie(code, out) = Skillctl({"--id", "operator", "clear"});
+  EXPECT_EQ(code, 0) << out;
 
   // A damped robot sinks where it stands and sometimes rolls onto its side; put it back before
-  // standing it up, so that what is checked is that stand clears the stop.
+  // standing it up.
   std::tie(code, out) = Skillctl({"reset"});
   EXPECT_EQ(code, 0) << out;
   std::tie(code, out) = Skillctl({"stand"});

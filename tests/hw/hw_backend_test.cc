@@ -127,22 +127,13 @@ TEST_F(HwBackendTest, AHungImuIsAFaultWhileTheEncodersStillMove) {
   EXPECT_THAT(WaitForFault(1s), HasSubstr("IMU readings frozen"));
 }
 
-TEST_F(HwBackendTest, HungEncodersAreAFaultOnceTheMotorsHold) {
+TEST_F(HwBackendTest, EncodersAtRestAreNoFault) {
   Connect();
   ASSERT_TRUE(backend_->Preflight().empty());
   EmulatorFaults faults;
-  faults.frozen_joints = true;
+  faults.frozen_joints = true;  // as quantised encoders of a robot lying still read
   emulator_->SetFaults(faults);
-  // A robot lying still without torque may read the same angles: no fault yet.
-  EXPECT_EQ(WaitForFault(300ms), "");
-  const auto until = std::chrono::steady_clock::now() + 1s;
-  std::string fault;
-  while (fault.empty() && std::chrono::steady_clock::now() < until) {  // a control loop holding the pose
-    backend_->Send(JointCommand::Track(a1::kDefaultJointPos));
-    std::this_thread::sleep_for(20ms);
-    fault = backend_->Fault();
-  }
-  EXPECT_THAT(fault, HasSubstr("joint encoder readings frozen"));
+  EXPECT_EQ(WaitForFault(500ms), "");  // hung encoders on a turning body: tests/hw/a1_peer_test.cc
 }
 
 TEST_F(HwBackendTest, PreflightSaysSoWhenEveryFrameIsMalformed) {

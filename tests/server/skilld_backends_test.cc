@@ -1,6 +1,6 @@
 // One client script, unchanged, against `skilld --backend sim` and `skilld --backend hw` (the
-// real A1's UDP path, with the robot emulator on loopback); and on the hardware path, injected
-// faults end in a reported damping stop while the server keeps answering.
+// real A1's UDP path, with the robot emulator on loopback). Injected faults on the hardware path
+// are tests/hw/a1_peer_test.cc's.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -19,11 +19,10 @@ using ::testing::HasSubstr;
 
 class SkilldBackendTest : public testutil::SkilldFixture {
  protected:
-  // Starts the emulator (with `faults`, after `faults_after` seconds), then skilld --backend hw.
-  void StartHw(const std::vector<std::string>& faults = {}) {
-    std::vector<std::string> args = {"--port", "0"};
-    args.insert(args.end(), faults.begin(), faults.end());
-    emulator_ = std::make_unique<testutil::Process>(testutil::BinaryPath("a1_emulator"), args,
+  // Starts the emulator binary, then skilld --backend hw.
+  void StartHw() {
+    emulator_ = std::make_unique<testutil::Process>(testutil::BinaryPath("a1_emulator"),
+                                                    std::vector<std::string>{"--port", "0"},
                                                     testutil::UniqueTempPath("emulator.log"));
     int port = 0;
     for (int i = 0; i < 500 && port == 0; ++i) {
@@ -72,13 +71,15 @@ TEST_P(SameScript, StandRunASkillStopAndDamp) {
   ASSERT_TRUE(client->Call("execute_skill", args).ok());
   const auto done = client->WaitForState(
       [](const StateSample& s) { return s.task_call == "execute_skill" && s.msg.task.state != flsd_msgs_TASK_RUNNING; },
-      10s);
-  ASSERT_TRUE(done);
+      30s);
+  ASSERT_TRUE(done) << client->LatestState()->task_message;
   EXPECT_EQ(done->msg.task.state, flsd_msgs_TASK_SUCCEEDED) << done->task_message << " " << done->fault_message;
 
+  // Back to back: it starts once the robot stands as it should (lying down and up again if need be).
   args.duration = 30.0;
   ASSERT_TRUE(client->Call("execute_skill", args).ok());
-  ASSERT_TRUE(client->WaitForState([](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_SKILL; }, 5s));
+  ASSERT_TRUE(client->WaitForState([](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_SKILL; }, 20s))
+      << client->LatestState()->task_message;
   ASSERT_TRUE(client->Call("stop").ok());
   const auto stopped = client->WaitForState(
       [](const StateSample& s) { return s.msg.task.state == flsd_msgs_TASK_CANCELLED; }, 5s);
@@ -89,34 +90,6 @@ TEST_P(SameScript, StandRunASkillStopAndDamp) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, SameScript, ::testing::Values("sim", "hw"));
-
-class HwFault : public SkilldBackendTest, public ::testing::WithParamInterface<std::pair<std::string, std::string>> {};
-
-TEST_P(HwFault, EndsInAReportedDampingStopWithTheServerStillAnswering) {
-  const auto& [flag, expected] = GetParam();
-  std::vector<std::string> faults = {"--faults-after", "4"};
-  std::istringstream words(flag);
-  for (std::string w; words >> w;) faults.push_back(w);
-  StartHw(faults);
-  auto client = Connect();
-  ASSERT_TRUE(client->AcquireControl().ok());
-  ASSERT_TRUE(client->Call("stand").ok());
-  const auto tripped = client->WaitForState([](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_DAMP; }, 15s);
-  ASSERT_TRUE(tripped) << server_->Log();
-  EXPECT_THAT(tripped->fault_message, HasSubstr(expected));
-  EXPECT_NE(tripped->msg.faults, 0u);
-  const CallResult status = client->Call("status");
-  EXPECT_TRUE(status.ok());
-  EXPECT_THAT(status.safety_report, HasSubstr(expected));
-}
-
-INSTANTIATE_TEST_SUITE_P(
-    Faults, HwFault,
-    ::testing::Values(std::make_pair("--drop 1", "backend: no valid state frame from the robot"),
-                      std::make_pair("--corrupt 1", "backend: no valid state frame from the robot"),
-                      std::make_pair("--late-ms 200", "backend: no valid state frame from the robot"),
-                      std::make_pair("--frozen", "backend: IMU and joint readings frozen"),
-                      std::make_pair("--dead-motor 7", "backend: motor RR_thigh_joint is not in servo mode")));
 
 }  // namespace
 }  // namespace flsd

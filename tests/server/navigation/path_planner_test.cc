@@ -1,5 +1,5 @@
 // The planner on maps with known answers: a free straight line, a wall with a gap, a goal inside
-// an obstacle, and an enclosed goal.
+// an obstacle, a start in the margin along the edge, and an enclosed goal.
 
 #include "server/navigation/path_planner.h"
 
@@ -57,6 +57,22 @@ TEST(PlanPath, AGoalInsideAnObstacleIsBlocked) {
   EXPECT_EQ(path.status, Status::kGoalBlocked);
   EXPECT_THAT(path.message, ::testing::HasSubstr("the goal (1.50, 0.20)"));
   EXPECT_TRUE(path.waypoints.empty());
+}
+
+// A replan after the robot overshot into the margin along the map's edge walks it back out;
+// only a start inside an obstacle is blocked.
+TEST(PlanPath, AStartInTheMarginIsWalkedOutOfButAStartInAnObstacleIsBlocked) {
+  const Map2D map = Map2D::Load("configs/maps/demo.yaml");
+  const Eigen::Vector2d start(5.78, -0.15);  // 0.22 m from the edge at x = 6
+  ASSERT_FALSE(map.IsFree(start));
+  const PlannedPath path = PlanPath(map, start, {4.5, 0.0});
+  ASSERT_EQ(path.status, Status::kFound) << path.message;
+  for (const Eigen::Vector2d& p : path.waypoints) {
+    if ((p - start).norm() >= map.robot_radius) EXPECT_TRUE(map.IsFree(p)) << p.transpose();
+  }
+  const PlannedPath blocked = PlanPath(map, {1.5, 0.2}, {4.5, 0.0});
+  EXPECT_EQ(blocked.status, Status::kStartBlocked);
+  EXPECT_THAT(blocked.message, ::testing::HasSubstr("the start (1.50, 0.20) is inside an obstacle"));
 }
 
 TEST(PlanPath, AnEnclosedGoalHasNoPath) {

@@ -1,0 +1,221 @@
+// An independent client against the real skilld over real DDS on loopback: requests written
+// from idl/flsd_msgs.idl alone, with the ids, deadlines, maps and orderings a careless or hostile
+// client sends. Each case asserts the reply and the mode on the state topic; the last one sends
+// random well- and ill-typed requests for a few seconds and checks that every one was answered
+// and that the server still stops the robot. (How soon the emergency stop acts is timed in
+// skilld_timing_test.cc.)
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <climits>
+#include <cmath>
+#include <memory>
+#include <random>
+
+#include "tests/common/raw_dds_client.h"
+#include "tests/common/skilld_fixture.h"
+
+namespace flsd {
+namespace {
+
+using namespace std::chrono_literals;
+using ::testing::HasSubstr;
+using testutil::RawReply;
+using testutil::RawRequest;
+using testutil::RawState;
+
+class SkilldAdversarialTest : public testutil::SkilldFixture {
+ protected:
+  void SetUp() override {
+    SkilldFixture::SetUp();
+    StartServer();
+    raw_ = std::make_unique<testutil::RawClient>(domain_, partition_);
+    ASSERT_TRUE(raw_->WaitForServer(15s)) << server_->Log();
+  }
+
+  // A request with the next id: ids from the wall clock, as the IDL asks of a client.
+  RawRequest Request(const std::string& client, const std::string& call) {
+    RawRequest r;
+    r.client_id = client;
+    r.request_id = ++next_id_;
+    r.call = call;
+    return r;
+  }
+  RawReply Call(const RawRequest& r) {
+    const std::optional<RawReply> reply = raw_->Call(r);
+    EXPECT_TRUE(reply) << r.call << " from " << r.client_id << " was not answered";
+    return reply.value_or(RawReply{});
+  }
+  RawReply Call(const std::string& client, const std::string& call) { return Call(Request(client, call)); }
+  RawReply Skill(const std::string& client, int skill, double duration, uint64_t* id = nullptr) {
+    RawRequest r = Request(client, "execute_skill");
+    r.skill = skill;
+    r.duration = duration;
+    if (id != nullptr) *id = r.request_id;
+    return Call(r);
+  }
+  std::optional<RawState> WaitForMode(flsd_msgs_Mode mode, std::chrono::milliseconds timeout) {
+    return raw_->WaitForState([&](const RawState& s) { return s.mode == mode; }, timeout);
+  }
+
+  std::unique_ptr<testutil::RawClient> raw_;
+  uint64_t next_id_ = static_cast<uint64_t>(dds_time());
+};
+
+TEST_F(SkilldAdversarialTest, AHolderCannotUndoABystandersEmergencyStop) {
+  ASSERT_EQ(Call("holder", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Call("holder", "stand").status, flsd_msgs_STATUS_OK);
+  ASSERT_TRUE(WaitForMode(flsd_msgs_MODE_STAND, 5s));
+  ASSERT_EQ(Call("bystander", "damp").status, flsd_msgs_STATUS_OK);
+  ASSERT_TRUE(WaitForMode(flsd_msgs_MODE_DAMP, 1s));
+  // The holder's next stands, as a client standing the robot in a loop sends them.
+  for (int i = 0; i < 3; ++i) {
+    const RawReply stand = Call("holder", "stand");
+    EXPECT_EQ(stand.status, flsd_msgs_STATUS_SAFETY_STOP);
+    EXPECT_THAT(stand.message, HasSubstr("an emergency stop from bystander is latched; call clear_stop"));
+    std::this_thread::sleep_for(20ms);
+  }
+  EXPECT_FALSE(raw_->WaitForState([](const RawState& s) { return s.mode != flsd_msgs_MODE_DAMP; }, 300ms))
+      << "the emergency stop was undone";
+  const RawReply early = Call("holder", "clear_stop");
+  EXPECT_EQ(early.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_THAT(early.message, HasSubstr("bystander may at once, any client after"));
+  EXPECT_EQ(Call("bystander", "clear_stop").status, flsd_msgs_STATUS_OK);
+  ASSERT_TRUE(WaitForMode(flsd_msgs_MODE_IDLE, 1s)) << "clearing the stop should leave the robot damped and idle";
+  EXPECT_EQ(Call("holder", "stand").status, flsd_msgs_STATUS_OK);
+  EXPECT_TRUE(WaitForMode(flsd_msgs_MODE_STAND, 1s));
+}
+
+// X releases control, Y takes it and starts a skill, each answered at once: Y's task must go on.
+TEST_F(SkilldAdversarialTest, AHandOverNeverEndsTheNewHoldersTask) {
+  const std::string clients[] = {"x", "y"};
+  ASSERT_EQ(Call("x", "acquire_control").status, flsd_msgs_STATUS_OK);
+  for (int trial = 0; trial < 10; ++trial) {
+    const std::string& from = clients[trial % 2];
+    const std::string& to = clients[(trial + 1) % 2];
+    ASSERT_EQ(Call(from, "release_control").status, flsd_msgs_STATUS_OK) << trial;
+    ASSERT_EQ(Call(to, "acquire_control").status, flsd_msgs_STATUS_OK) << trial;
+    uint64_t id = 0;
+    ASSERT_EQ(Skill(to, 1, 3.0, &id).status, flsd_msgs_STATUS_OK) << trial;
+    const std::optional<RawState> ended = raw_->WaitForState(
+        [&](const RawState& s) {
+          return s.task_request_id == id && s.task_state != flsd_msgs_TASK_RUNNING && s.task_state != flsd_msgs_TASK_NONE;
+        },
+        150ms);
+    EXPECT_FALSE(ended) << "trial " << trial << ": " << to << "'s task ended "
+                        << dds::TaskStateName(ended->task_state) << ": " << ended->task_message;
+  }
+}
+
+TEST_F(SkilldAdversarialTest, AForgottenClientCannotReplayARequest) {
+  RawRequest first = Request("e", "status");
+  first.request_id = 777;
+  ASSERT_EQ(Call(first).status, flsd_msgs_STATUS_OK);
+  for (int i = 0; i < 300; ++i) ASSERT_EQ(Call("other-" + std::to_string(i), "status").status, flsd_msgs_STATUS_OK);
+  const RawReply replay = Call(first);
+  EXPECT_EQ(replay.status, flsd_msgs_STATUS_DUPLICATE) << replay.message;
+  EXPECT_THAT(replay.message, HasSubstr("request_id 777 is not above"));
+}
+
+TEST_F(SkilldAdversarialTest, MapBoundsThePlannerCannotSampleAreRefusedNamingTheBound) {
+  ASSERT_EQ(Call("holder", "acquire_control").status, flsd_msgs_STATUS_OK);
+  for (const std::string bounds : {"[-.inf, .inf, -5, 5]", "[-1e300, 1e300, -5, 5]"}) {
+    RawRequest r = Request("holder", "navigate");
+    r.goal = {1.0, 0.0};
+    r.map_yaml = "bounds: " + bounds + "\n";
+    const RawReply reply = Call(r);
+    EXPECT_EQ(reply.status, flsd_msgs_STATUS_INVALID_ARGUMENT) << bounds;
+    EXPECT_THAT(reply.message, HasSubstr("bounds[0] (x_min): expected a finite number within [-1000, 1000] m")) << bounds;
+  }
+  // Nothing moved: the robot lies idle, with no task.
+  const std::optional<RawState> s = raw_->WaitForState([](const RawState&) { return true; }, 1s);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->mode, flsd_msgs_MODE_IDLE);
+  EXPECT_EQ(s->task_state, flsd_msgs_TASK_NONE);
+}
+
+TEST_F(SkilldAdversarialTest, AnImpossibleDeadlineIsRefusedByName) {
+  RawRequest r = Request("c", "status");
+  r.deadline_ns = INT64_MIN;
+  const RawReply reply = Call(r);
+  EXPECT_EQ(reply.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_THAT(reply.message, HasSubstr("deadline_ns must be 0 (none) or a CLOCK_REALTIME time in ns, got "
+                                       "-9223372036854775808"));
+  r = Request("c", "status");
+  r.deadline_ns = dds_time() - 2'000'000'000;
+  EXPECT_THAT(Call(r).message, ::testing::MatchesRegex("arrived 2\\.[0-9][0-9] s after its deadline; not executed"));
+}
+
+// As the README says: any request of the holder renews the lease; 1 s without one, it lapses.
+TEST_F(SkilldAdversarialTest, AHolderThatOnlyAsksForStatusKeepsTheLease) {
+  ASSERT_EQ(Call("holder", "acquire_control").status, flsd_msgs_STATUS_OK);
+  const auto until = std::chrono::steady_clock::now() + 2500ms;
+  while (std::chrono::steady_clock::now() < until) {
+    ASSERT_EQ(Call("holder", "status").status, flsd_msgs_STATUS_OK);
+    std::this_thread::sleep_for(250ms);
+    const std::optional<RawState> s = raw_->WaitForState([](const RawState&) { return true; }, 1s);
+    ASSERT_TRUE(s);
+    ASSERT_EQ(s->controller, "holder") << "the lease lapsed while the holder kept calling status";
+  }
+  EXPECT_TRUE(raw_->WaitForState([](const RawState& s) { return s.controller.empty(); }, 2s));
+}
+
+// Random requests, well- and ill-typed, for three seconds: every one is answered with a status
+// the IDL defines (a reason with every refusal), and afterwards the server answers and damps.
+TEST_F(SkilldAdversarialTest, RandomRequestsAreAllAnsweredAndTheServerStillDamps) {
+  std::mt19937_64 rng(20261202);
+  const auto pick = [&](auto& options) { return options[rng() % std::size(options)]; };
+  const std::string calls[] = {"list_skills", "status", "execute_skill", "track_velocity", "navigate", "stop",
+                               "stand", "damp", "clear_stop", "acquire_control", "renew_control",
+                               "release_control", "reset", "", "fly", std::string(300, 'x'), "status\n"};
+  const std::string clients[] = {"f0", "f1", "f2", "f3", std::string(70, 'c')};
+  const double numbers[] = {0.0, -1.0, 0.3, 1.0, 2.0, 1e9, -1e300, NAN, INFINITY, -INFINITY, 1e-300};
+  const int64_t deadlines[] = {0, 0, 0, INT64_MIN, INT64_MAX, -1, 1};
+  std::string bomb = "polygons:\n  - &p [[0, 0], [1, 0], [1, 1], [0, 1]]\n";
+  for (int i = 0; i < 2000; ++i) bomb += "  - *p\n";
+  const std::string maps[] = {"", "bounds: [-5, 5, -5, 5]\n", "bounds: [-5, 5, -5, 5]\ncircles: [{center: [2, 0], radius: 0.5}]\n",
+                              "bounds: [1]", "{{{", std::string(4000, '[') + std::string(4000, ']'), bomb,
+                              "bounds: [-.nan, 1, 0, 1]", "circles: [{center: *x, radius: 1}]", "robot_radius: 1e400"};
+  std::map<std::string, uint64_t> last_id;
+  int answered = 0, sent = 0;
+  const auto until = std::chrono::steady_clock::now() + 3s;
+  while (std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(2ms);  // within every client's rate limit: each request is answered
+    RawRequest r;
+    r.client_id = pick(clients);
+    // Mostly growing ids, sometimes a repeat or an older one.
+    uint64_t& last = last_id[r.client_id];
+    r.request_id = rng() % 10 == 0 ? last : last + 1 + rng() % 3;
+    last = std::max(last, r.request_id);
+    r.deadline_ns = pick(deadlines);
+    if (r.deadline_ns == 1) r.deadline_ns = dds_time() + 1'000'000'000;
+    r.call = pick(calls);
+    r.skill = static_cast<int32_t>(rng() % 40) - 5;
+    if (rng() % 10 == 0) r.skill = rng() % 2 ? INT32_MIN : INT32_MAX;
+    r.duration = rng() % 3 ? 0.2 + 0.1 * (rng() % 10) : pick(numbers);
+    for (double& v : r.velocity) v = pick(numbers);
+    for (double& g : r.goal) g = rng() % 2 ? 0.5 : pick(numbers);
+    r.map_yaml = pick(maps);
+    ++sent;
+    const std::optional<RawReply> reply = raw_->Call(r, 2s);
+    ASSERT_TRUE(reply) << "'" << r.call << "' from '" << r.client_id << "' (id " << r.request_id
+                       << ") was not answered\n" << server_->Log();
+    ++answered;
+    ASSERT_GE(reply->status, flsd_msgs_STATUS_OK);
+    ASSERT_LE(reply->status, flsd_msgs_STATUS_INTERNAL);
+    EXPECT_NE(reply->status, flsd_msgs_STATUS_INTERNAL) << r.call << ": " << reply->message;
+    if (reply->status != flsd_msgs_STATUS_OK) EXPECT_FALSE(reply->message.empty()) << r.call;
+  }
+  EXPECT_EQ(answered, sent);
+  EXPECT_GT(sent, 100);
+
+  EXPECT_EQ(Call("after", "status").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Call("after", "damp").status, flsd_msgs_STATUS_OK);
+  EXPECT_TRUE(WaitForMode(flsd_msgs_MODE_DAMP, 1s));
+  server_->Signal(SIGTERM);
+  EXPECT_EQ(server_->Wait(), 0) << server_->Log();
+}
+
+}  // namespace
+}  // namespace flsd

@@ -203,7 +203,7 @@ void Controller::Apply(const ControlRequest& request) {
       stop_time_ = static_cast<double>(tick_) * a1::kControlDt;
       break;
     case ControlRequest::Kind::kClearStop:
-      if (!(latched_faults_ & kFaultStop)) return;
+      if (!(latched_faults_ & kFaultStop) || request.pressed_at != stop_time_) return;
       latched_faults_ &= ~kFaultStop;
       stop_client_[0] = '\0';
       if (latched_faults_ == 0) {  // nothing else latched: damped and idle until told to stand

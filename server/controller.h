@@ -75,6 +75,7 @@ struct ControlRequest {
   // must not end the task of the client that took control after it.
   enum class Scope { kAny, kClient, kTask };  // whatever runs; client_id's task; request_id's task
   Scope scope = Scope::kAny;
+  double pressed_at = 0.0;  // kClearStop: the press it clears (ControllerStatus.stop_time); a later one stays
   FixedText reason{};  // kStop, kDamp: why, for the task's message; kVelocityUpdate: progress
 };
 

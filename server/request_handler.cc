@@ -294,7 +294,9 @@ ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
   }
   ControlRequest clear;
   clear.kind = ControlRequest::Kind::kClearStop;
-  if (!Submit(clear, client_id, 0)) return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+  clear.pressed_at = status.stop_time;
+  SetText(clear.client_id, client_id.c_str());
+  if (!controller_.Submit(clear)) return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
   return Reply(flsd_msgs_STATUS_OK, "emergency stop cleared; the robot stays damped until stand");
 }
 

@@ -109,7 +109,14 @@ TEST_F(ControllerTest, DampLatchesUntilClearedAndIgnoresStandsAndSkillsMeanwhile
   RunFor(0.5);
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
   EXPECT_STREQ(controller_.status().stop_client.data(), "test-client");
-  ASSERT_TRUE(controller_.Submit(Request(Kind::kClearStop)));
+  ControlRequest stale = Request(Kind::kClearStop);  // for an earlier press: ignored
+  stale.pressed_at = controller_.status().stop_time - 0.02;
+  ASSERT_TRUE(controller_.Submit(stale));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  ControlRequest clear = Request(Kind::kClearStop);
+  clear.pressed_at = controller_.status().stop_time;
+  ASSERT_TRUE(controller_.Submit(clear));
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
   EXPECT_EQ(controller_.status().faults, 0u);

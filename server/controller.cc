@@ -282,7 +282,7 @@ void Controller::SettledStand() {
   }
   unverified_ticks_ = 0;
   if (pending_mode_ == flsd_msgs_MODE_IDLE) return;  // a plain stand holds on as it is
-  char why[160];
+  char why[112];
   Standing(why, sizeof why);
   char message[192];
   std::snprintf(message, sizeof message, "not standing after %d lie-down and stand-up recoveries (%s); not started",

@@ -15,7 +15,6 @@ double MonotonicSeconds() {
 }
 
 char* Text(const std::string& s) { return const_cast<char*>(s.c_str()); }  // Cyclone only reads it
-char* Text(const char* s) { return const_cast<char*>(s); }
 
 std::vector<flsd_msgs_SkillInfo> MakeSkillInfos(const SkillLibrary& library) {
   std::vector<flsd_msgs_SkillInfo> infos;

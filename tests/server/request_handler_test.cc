@@ -177,11 +177,15 @@ class LaterReplies {
       arrived_.notify_all();
     };
   }
-  // The next one, or a default ReplyContent (STATUS_OK, no message) after 10 s.
+  // The next one, or STATUS_INTERNAL after 10 s.
   ReplyContent Next() {
     std::unique_lock<std::mutex> lock(mutex_);
     arrived_.wait_for(lock, std::chrono::seconds(10), [&] { return taken_ < replies_.size(); });
-    return taken_ < replies_.size() ? replies_[taken_++] : ReplyContent{flsd_msgs_STATUS_INTERNAL, "no reply"};
+    if (taken_ < replies_.size()) return replies_[taken_++];
+    ReplyContent none;
+    none.status = flsd_msgs_STATUS_INTERNAL;
+    none.message = "no reply within 10 s";
+    return none;
   }
 
  private:

@@ -31,7 +31,7 @@ rm -f /tmp/flsd_demo_skills.$$
 status=0
 picture=${PICTURE:-build/demo_navigation.svg}
 echo "== navigate to (5, 0) around the obstacles of configs/maps/demo.yaml"
-"${ctl[@]}" --quiet goto 5 0 --map configs/maps/demo.yaml --duration 90 --picture "$picture" || status=$?
+"${ctl[@]}" --quiet goto 5 0 --map configs/maps/demo.yaml --duration 150 --picture "$picture" || status=$?
 for k in $fastest; do
   # Back to back, as on a real robot: the server stands the robot up between skills and starts
   # the next one only from a verified stand (lying down and standing up again if it must).

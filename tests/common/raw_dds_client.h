@@ -59,9 +59,13 @@ class RawClient {
   // Until the server's reader and writer are matched with ours and a status call is answered.
   bool WaitForServer(std::chrono::milliseconds timeout) {
     const auto until = std::chrono::steady_clock::now() + timeout;
-    for (uint64_t id = 1; std::chrono::steady_clock::now() < until; ++id) {
+    RawRequest probe;
+    probe.client_id = "raw-probe";
+    probe.call = "status";
+    while (std::chrono::steady_clock::now() < until) {
+      ++probe.request_id;
       if (requests_.matched_readers() > 0 && replies_.matched_writers() > 0 &&
-          Call({"raw-probe", id, 0, "status"}, std::chrono::milliseconds(200))) {
+          Call(probe, std::chrono::milliseconds(200))) {
         return true;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));

@@ -205,7 +205,9 @@ TEST_F(SkilldAdversarialTest, RandomRequestsAreAllAnsweredAndTheServerStillDamps
     ASSERT_GE(reply->status, flsd_msgs_STATUS_OK);
     ASSERT_LE(reply->status, flsd_msgs_STATUS_INTERNAL);
     EXPECT_NE(reply->status, flsd_msgs_STATUS_INTERNAL) << r.call << ": " << reply->message;
-    if (reply->status != flsd_msgs_STATUS_OK) EXPECT_FALSE(reply->message.empty()) << r.call;
+    if (reply->status != flsd_msgs_STATUS_OK) {
+      EXPECT_FALSE(reply->message.empty()) << r.call;
+    }
   }
   EXPECT_EQ(answered, sent);
   EXPECT_GT(sent, 100);

@@ -68,7 +68,9 @@ TEST(PlanPath, AStartInTheMarginIsWalkedOutOfButAStartInAnObstacleIsBlocked) {
   const PlannedPath path = PlanPath(map, start, {4.5, 0.0});
   ASSERT_EQ(path.status, Status::kFound) << path.message;
   for (const Eigen::Vector2d& p : path.waypoints) {
-    if ((p - start).norm() >= map.robot_radius) EXPECT_TRUE(map.IsFree(p)) << p.transpose();
+    if ((p - start).norm() >= map.robot_radius) {
+      EXPECT_TRUE(map.IsFree(p)) << p.transpose();
+    }
   }
   const PlannedPath blocked = PlanPath(map, {1.5, 0.2}, {4.5, 0.0});
   EXPECT_EQ(blocked.status, Status::kStartBlocked);

@@ -88,7 +88,9 @@ class SkilldTimingTest : public testutil::SkilldFixture {
     const std::optional<RawState> damped =
         raw_->WaitForState([](const RawState& s) { return s.mode == flsd_msgs_MODE_DAMP; }, 10s);
     EXPECT_TRUE(damped) << server_->Log();
-    if (damped) EXPECT_LT(damped->received - sent, 50ms) << "the emergency stop waited behind the map";
+    if (damped) {
+      EXPECT_LT(damped->received - sent, 50ms) << "the emergency stop waited behind the map";
+    }
     EXPECT_TRUE(raw_->Await(damp.client_id, damp.request_id, 2s));
 
     const std::optional<RawReply> reply = raw_->Await(navigate.client_id, navigate.request_id, 5s);

@@ -10,12 +10,14 @@
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <thread>
 #include <utility>
 
 #include "comm/protocol.h"
+#include "tests/common/skilld_fixture.h"
 
 namespace flsd::testutil {
 
@@ -148,6 +150,29 @@ class RawClient {
   dds::Reader<flsd_msgs_Reply> replies_;
   dds::Reader<flsd_msgs_RobotState> states_;
   std::map<std::pair<std::string, uint64_t>, RawReply> replies_seen_;
+};
+
+// A real skilld on loopback with a RawClient connected to it.
+class RawSkilldFixture : public SkilldFixture {
+ protected:
+  void SetUp() override {
+    SkilldFixture::SetUp();
+    StartServer();
+    raw_ = std::make_unique<RawClient>(domain_, partition_);
+    ASSERT_TRUE(raw_->WaitForServer(std::chrono::seconds(15))) << server_->Log();
+  }
+
+  // A request with the next id: ids from the wall clock, as the IDL asks of a client.
+  RawRequest Request(const std::string& client, const std::string& call) {
+    RawRequest r;
+    r.client_id = client;
+    r.request_id = ++next_id_;
+    r.call = call;
+    return r;
+  }
+
+  std::unique_ptr<RawClient> raw_;
+  uint64_t next_id_ = static_cast<uint64_t>(dds_time());
 };
 
 }  // namespace flsd::testutil

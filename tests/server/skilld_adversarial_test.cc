@@ -25,23 +25,8 @@ using testutil::RawReply;
 using testutil::RawRequest;
 using testutil::RawState;
 
-class SkilldAdversarialTest : public testutil::SkilldFixture {
+class SkilldAdversarialTest : public testutil::RawSkilldFixture {
  protected:
-  void SetUp() override {
-    SkilldFixture::SetUp();
-    StartServer();
-    raw_ = std::make_unique<testutil::RawClient>(domain_, partition_);
-    ASSERT_TRUE(raw_->WaitForServer(15s)) << server_->Log();
-  }
-
-  // A request with the next id: ids from the wall clock, as the IDL asks of a client.
-  RawRequest Request(const std::string& client, const std::string& call) {
-    RawRequest r;
-    r.client_id = client;
-    r.request_id = ++next_id_;
-    r.call = call;
-    return r;
-  }
   RawReply Call(const RawRequest& r) {
     const std::optional<RawReply> reply = raw_->Call(r);
     EXPECT_TRUE(reply) << r.call << " from " << r.client_id << " was not answered";
@@ -58,9 +43,6 @@ class SkilldAdversarialTest : public testutil::SkilldFixture {
   std::optional<RawState> WaitForMode(flsd_msgs_Mode mode, std::chrono::milliseconds timeout) {
     return raw_->WaitForState([&](const RawState& s) { return s.mode == mode; }, timeout);
   }
-
-  std::unique_ptr<testutil::RawClient> raw_;
-  uint64_t next_id_ = static_cast<uint64_t>(dds_time());
 };
 
 TEST_F(SkilldAdversarialTest, AHolderCannotUndoABystandersEmergencyStop) {

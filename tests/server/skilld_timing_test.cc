@@ -50,22 +50,8 @@ std::string HeaviestAcceptedMap() {
   return map;
 }
 
-class SkilldTimingTest : public testutil::SkilldFixture {
+class SkilldTimingTest : public testutil::RawSkilldFixture {
  protected:
-  void SetUp() override {
-    SkilldFixture::SetUp();
-    StartServer();
-    raw_ = std::make_unique<testutil::RawClient>(domain_, partition_);
-    ASSERT_TRUE(raw_->WaitForServer(15s)) << server_->Log();
-  }
-  RawRequest Request(const std::string& client, const std::string& call) {
-    RawRequest r;
-    r.client_id = client;
-    r.request_id = ++next_id_;
-    r.call = call;
-    return r;
-  }
-
   // Sends navigate with `map`, and 20 ms later a status and a damp from two other clients:
   // returns the navigate's reply; expects the status answered and the damp in effect within 50 ms.
   RawReply NavigateThenDamp(const std::string& map) {
@@ -97,9 +83,6 @@ class SkilldTimingTest : public testutil::SkilldFixture {
     EXPECT_TRUE(reply) << "navigate was not answered";
     return reply.value_or(RawReply{});
   }
-
-  std::unique_ptr<testutil::RawClient> raw_;
-  uint64_t next_id_ = static_cast<uint64_t>(dds_time());
 };
 
 TEST_F(SkilldTimingTest, TheEmergencyStopTakesEffectWithin50MsWhileAnAliasBombIsRead) {

@@ -14,6 +14,23 @@ int Ticks(double seconds) { return static_cast<int>(std::lround(seconds / a1::kC
 // legs folded under the body, the rising robot pins its feet too close and stands pitched.)
 constexpr a1::JointArray<double> kLyingPose = {-0.45, 1.1, -2.6, 0.45, 1.1, -2.6, -0.45, 1.45, -2.6, 0.45, 1.45, -2.6};
 
+// The selector config.selector names, or none: "learned" over a library without a selector, or
+// "auto" over one without a selector or a surviving skill, leaves the velocity calls unavailable.
+std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const std::string& selector) {
+  const bool learned = selector == "learned" || (selector == "auto" && library.selector());
+  if (learned) {
+    return library.selector() ? std::optional<HierarchicalPolicy>(std::in_place, library) : std::nullopt;
+  }
+  if (selector == "auto") {
+    try {
+      return std::optional<HierarchicalPolicy>(std::in_place, library, SelectorKind::kNearestSkill);
+    } catch (const InputError&) {
+      return std::nullopt;
+    }
+  }
+  return std::optional<HierarchicalPolicy>(std::in_place, library, ParseSelectorKind(selector));
+}
+
 }  // namespace
 
 Controller::Controller(Backend& backend, const SkillLibrary& library, const ServerConfig& config)
@@ -22,7 +39,7 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       config_(config),
       supervisor_(config.safety),
       runner_(library),
-      hierarchy_(library.selector() ? std::optional<HierarchicalPolicy>(std::in_place, library) : std::nullopt),
+      hierarchy_(MakeHierarchy(library, config.selector)),
       target_filter_(library.action_filter_hz(), library.action_filter_order()),
       policy_obs_(PolicyObservationSize(library.num_skills())) {
   state_ = backend_.Read();

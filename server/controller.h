@@ -103,6 +103,8 @@ class Controller {
   const SkillLibrary& library() const { return library_; }
   // Whether track_velocity and navigate can run: the library carries a skill selector.
   bool has_selector() const { return hierarchy_.has_value(); }
+  // The velocity calls' selector, or nullptr when the server has none.
+  const HierarchicalPolicy* selector() const { return hierarchy_ ? &*hierarchy_ : nullptr; }
   const ServerConfig& config() const { return config_; }
   bool backend_can_reset() const { return backend_.CanReset(); }
 

@@ -306,7 +306,8 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
   if (!controller_.has_selector()) {
     return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, call + " is not available: the skill library " +
                                                      controller_.library().path() +
-                                                     " has no skill selector (flsd export-selector adds one)");
+                                                     " has no skill selector (flsd export-selector adds one) and the "
+                                                     "server's selector is '" + config_.selector + "'");
   }
   ControlRequest control;
   control.kind = ControlRequest::Kind::kVelocity;
@@ -320,23 +321,26 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
     }
     std::copy(request.velocity, request.velocity + 3, control.velocity.begin());
     control.duration = request.duration;
-    const SelectorNetwork& selector = *controller_.library().selector();
+    const HierarchicalPolicy& selector = *controller_.selector();
+    const std::array<std::array<double, 3>, 2> range = selector.CommandRange();
     char text[256];
     std::snprintf(text, sizeof text, "velocity (%.2f m/s, %.2f m/s, %.2f rad/s) for %s accepted", control.velocity[0],
                   control.velocity[1], control.velocity[2], Seconds(request.duration).c_str());
     accepted = text;
     for (int a = 0; a < 3; ++a) {
-      const double clipped = std::clamp(control.velocity[a], selector.command_min[a], selector.command_max[a]);
+      const double clipped = std::clamp(control.velocity[a], range[0][a], range[1][a]);
       if (clipped != control.velocity[a]) {
         static const char* const kAxes[] = {"vx", "vy", "wz"};
-        std::snprintf(text, sizeof text, "; %s clipped to %.2f, the edge of the trained range [%.2f, %.2f]", kAxes[a],
-                      clipped, selector.command_min[a], selector.command_max[a]);
+        std::snprintf(text, sizeof text, "; %s clipped to %.2f, the edge of the %s selector's range [%.2f, %.2f]",
+                      kAxes[a], clipped, ToString(selector.kind()), range[0][a], range[1][a]);
         accepted += text;
       }
     }
-    const std::array<double, 3> seen = ClipCommand(selector, control.velocity.data());
-    if (seen[0] == 0.0 && seen[1] == 0.0 && (control.velocity[0] != 0.0 || control.velocity[1] != 0.0)) {
-      std::snprintf(text, sizeof text, "; vx and vy zeroed: slower than %.2f m/s, as in training", selector.min_planar_speed);
+    const std::array<double, 3> seen = selector.Clip(control.velocity.data());
+    if (selector.MinPlanarSpeed() > 0.0 && seen[0] == 0.0 && seen[1] == 0.0 &&
+        (control.velocity[0] != 0.0 || control.velocity[1] != 0.0)) {
+      std::snprintf(text, sizeof text, "; vx and vy zeroed: slower than %.2f m/s, as in training",
+                    selector.MinPlanarSpeed());
       accepted += text;
     }
   } else {

@@ -103,6 +103,11 @@ struct ServerConfig {
   int request_burst = 100;
   int control_priority = 80;  // SCHED_FIFO priority of the control loop; 0: the normal scheduler
   int cpu_latency_us = 0;     // /dev/cpu_dma_latency while serving (0: idle CPUs poll); -1: untouched
+  // What chooses the skill for track_velocity and navigate: "learned" (the library's selector; the
+  // calls are unavailable without one), "nearest_skill" (the skill whose measured velocity is
+  // nearest the command, skills/runtime/nearest_skill.h), or "auto": learned if the library has a
+  // selector, nearest_skill if not.
+  std::string selector = "auto";
   StandCheckConfig stand_check;
   SafetyConfig safety;
   NavigationConfig navigation;
@@ -121,6 +126,7 @@ struct ServerConfig {
     v("request_burst", request_burst, Bounds<int>{1, 100000});
     v("control_priority", control_priority, Bounds<int>{0, 99});
     v("cpu_latency_us", cpu_latency_us, Bounds<int>{-1, 1000000});
+    v("selector", selector);
     v("stand_check", stand_check);
     v("safety", safety);
     v("navigation", navigation);

@@ -44,6 +44,13 @@ std::array<double, 3> HierarchicalPolicy::Clip(const double* command) const {
   return selector_ ? ClipCommand(*library_.selector(), command) : nearest_->Clip(command);
 }
 
+std::array<std::array<double, 3>, 2> HierarchicalPolicy::CommandRange() const {
+  if (selector_) return {library_.selector()->command_min, library_.selector()->command_max};
+  const Eigen::Vector3d& lo = nearest_->velocity_min();
+  const Eigen::Vector3d& hi = nearest_->velocity_max();
+  return {std::array<double, 3>{lo.x(), lo.y(), lo.z()}, std::array<double, 3>{hi.x(), hi.y(), hi.z()}};
+}
+
 int HierarchicalPolicy::Act(const float* motion_obs, const double* command, const float* previous_action,
                             float* action) {
   const int hold = selector_ ? library_.selector()->decision_interval : kNearestSkillHoldSteps;

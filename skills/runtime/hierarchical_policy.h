@@ -37,6 +37,11 @@ class HierarchicalPolicy {
   // The command as the selector sees it: within the learned selector's trained ranges, or within
   // what the nearest-skill selector's candidates do.
   std::array<double, 3> Clip(const double* command) const;
+  // What Clip clips each axis (vx, vy, wz) to: lowest, then highest.
+  std::array<std::array<double, 3>, 2> CommandRange() const;
+  // m/s below which the learned selector zeroes a command's planar part (as in its training); 0
+  // for the nearest-skill selector.
+  double MinPlanarSpeed() const { return selector_ ? library_.selector()->min_planar_speed : 0.0; }
   SelectorKind kind() const { return kind_; }
 
  private:

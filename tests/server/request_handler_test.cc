@@ -231,7 +231,7 @@ TEST_F(RequestHandlerTest, NavigateNeedsANavigatorAndAMapThatParses) {
   EXPECT_THAT(ok.message, HasSubstr("planning"));
 }
 
-TEST(RequestHandlerSelector, WithoutASelectorVelocityCallsSaySo) {
+TEST(RequestHandlerSelector, WithoutALearnedSelectorTheNearestSkillOneServesUnlessConfiguredOut) {
   // The shipped library with its selector taken out.
   SafeTensors file = ReadSafeTensors(ResolveDataPath("models/a1_flsd.safetensors"));
   for (auto it = file.tensors.begin(); it != file.tensors.end();) {
@@ -245,19 +245,45 @@ TEST(RequestHandlerSelector, WithoutASelectorVelocityCallsSaySo) {
   const SkillLibrary library = SkillLibrary::Load(path);
   ASSERT_FALSE(library.selector().has_value());
 
-  ServerConfig config;
   SimBackend backend{SimBackendConfig{}};
+  {
+    // "learned" over a library without one: the velocity calls say why they are unavailable.
+    ServerConfig config;
+    config.selector = "learned";
+    Controller controller(backend, library, config);
+    EXPECT_FALSE(controller.has_selector());
+    RequestHandler handler(controller, config);
+    ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, flsd_msgs_STATUS_OK);
+    TestRequest vel("a", 2, "track_velocity");
+    vel.msg.duration = 1.0;
+    const ReplyContent r = handler.Handle(vel.msg, 0.0, 0).value_or(ReplyContent{});
+    EXPECT_EQ(r.status, flsd_msgs_STATUS_NOT_AVAILABLE);
+    EXPECT_THAT(r.message, HasSubstr("has no skill selector"));
+    EXPECT_THROW(HierarchicalPolicy{library}, InputError);
+  }
+  // "auto", the default: the nearest-skill selector, its commands clipped to what the skills do.
+  ServerConfig config;
   Controller controller(backend, library, config);
-  EXPECT_FALSE(controller.has_selector());
+  ASSERT_TRUE(controller.has_selector());
+  EXPECT_EQ(controller.selector()->kind(), SelectorKind::kNearestSkill);
   RequestHandler handler(controller, config);
   ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, flsd_msgs_STATUS_OK);
   TestRequest vel("a", 2, "track_velocity");
   vel.msg.duration = 1.0;
+  vel.msg.velocity[0] = 5.0;
   const ReplyContent r = handler.Handle(vel.msg, 0.0, 0).value_or(ReplyContent{});
-  EXPECT_EQ(r.status, flsd_msgs_STATUS_NOT_AVAILABLE);
-  EXPECT_THAT(r.message, HasSubstr("has no skill selector"));
-  EXPECT_THROW(HierarchicalPolicy{library}, InputError);
+  EXPECT_EQ(r.status, flsd_msgs_STATUS_OK) << r.message;
+  EXPECT_THAT(r.message, HasSubstr("vx clipped to"));
+  EXPECT_THAT(r.message, HasSubstr("the edge of the nearest_skill selector's range"));
   std::remove(path.c_str());
+}
+
+TEST(RequestHandlerSelector, AnUnknownSelectorInTheServerConfigIsNamed) {
+  const testutil::TempFile file(".yaml", "selector: oracle\n");
+  EXPECT_THAT(testutil::InputErrorMessage([&] { LoadServerConfig(file.path()); }),
+              HasSubstr(file.path() + ": selector: selector 'oracle': expected learned or nearest_skill or auto"));
+  const testutil::TempFile nearest(".yaml", "selector: nearest_skill\n");
+  EXPECT_EQ(LoadServerConfig(nearest.path()).selector, "nearest_skill");
 }
 
 TEST_F(RequestHandlerTest, UnknownCallsAndBadClientIdsAreAnswered) {

@@ -13,9 +13,8 @@
 #include <ostream>
 #include <memory>
 
-#include "client/client.h"
 #include "hw/a1_emulator.h"
-#include "tests/common/skilld_fixture.h"
+#include "tests/common/client_skilld_fixture.h"
 
 namespace flsd {
 namespace {
@@ -24,7 +23,7 @@ using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-class A1PeerTest : public testutil::SkilldFixture {
+class A1PeerTest : public testutil::ClientSkilldFixture {
  protected:
   void StartPeer(const hw::EmulatorFaults& faults = {}) {
     hw::EmulatorConfig config;
@@ -40,14 +39,6 @@ class A1PeerTest : public testutil::SkilldFixture {
   void TearDown() override {
     server_.reset();
     if (peer_) peer_->Stop();
-  }
-  std::unique_ptr<Client> Connect() {
-    Client::Options options;
-    options.domain_id = domain_;
-    options.partition = partition_;
-    auto client = std::make_unique<Client>(options);
-    EXPECT_TRUE(client->WaitForServer(15s)) << server_->Log();
-    return client;
   }
 
   std::unique_ptr<hw::A1Emulator> peer_;

@@ -8,8 +8,7 @@
 #include <fstream>
 #include <regex>
 
-#include "client/client.h"
-#include "tests/common/skilld_fixture.h"
+#include "tests/common/client_skilld_fixture.h"
 
 namespace flsd {
 namespace {
@@ -17,7 +16,7 @@ namespace {
 using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 
-class SkilldBackendTest : public testutil::SkilldFixture {
+class SkilldBackendTest : public testutil::ClientSkilldFixture {
  protected:
   // Starts the emulator binary, then skilld --backend hw.
   void StartHw() {
@@ -39,14 +38,6 @@ class SkilldBackendTest : public testutil::SkilldFixture {
   }
   void Start(const std::string& backend) {
     if (backend == "hw") StartHw(); else StartServer();
-  }
-  std::unique_ptr<Client> Connect() {
-    Client::Options options;
-    options.domain_id = domain_;
-    options.partition = partition_;
-    auto client = std::make_unique<Client>(options);
-    EXPECT_TRUE(client->WaitForServer(15s)) << server_->Log();
-    return client;
   }
 
   std::unique_ptr<testutil::Process> emulator_;

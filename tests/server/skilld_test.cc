@@ -10,10 +10,9 @@
 #include <fstream>
 #include <iterator>
 
-#include "client/client.h"
 #include "comm/protocol.h"
 #include "skills/runtime/skill_library.h"
-#include "tests/common/skilld_fixture.h"
+#include "tests/common/client_skilld_fixture.h"
 
 namespace flsd {
 namespace {
@@ -21,18 +20,8 @@ namespace {
 using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 
-class SkilldTest : public testutil::SkilldFixture {
- protected:
-  std::unique_ptr<Client> Connect(std::chrono::milliseconds heartbeat = 250ms) {
-    Client::Options options;
-    options.domain_id = domain_;
-    options.partition = partition_;
-    options.heartbeat = heartbeat;
-    auto client = std::make_unique<Client>(options);
-    EXPECT_TRUE(client->WaitForServer(15s)) << server_->Log();
-    return client;
-  }
-  static bool Standing(const StateSample& s) {
+class SkilldTest : public testutil::ClientSkilldFixture {
+ protected:  static bool Standing(const StateSample& s) {
     return s.msg.mode == flsd_msgs_MODE_STAND && s.msg.position[2] > 0.22;
   }
 };

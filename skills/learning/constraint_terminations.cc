@@ -10,13 +10,16 @@ namespace flsd {
 double ConstraintTerminations::MaxP(int constraint, int iteration) const {
   if (constraint == static_cast<int>(Constraint::kCalfContact)) return config_.calf_contact_max_p;
   const double progress =
-      config_.ramp_iterations > 0 ? std::min(1.0, static_cast<double>(iteration) / config_.ramp_iterations) : 1.0;
+      config_.ramp_iterations > 0
+          ? std::clamp(static_cast<double>(iteration - first_iteration_) / config_.ramp_iterations, 0.0, 1.0)
+          : 1.0;
   return config_.max_p.lo + progress * (config_.max_p.hi - config_.max_p.lo);
 }
 
 torch::Tensor ConstraintTerminations::Probabilities(const torch::Tensor& violations, int iteration,
                                                     const Communicator& comm, ConstraintStats& stats) {
   torch::NoGradGuard no_grad;
+  if (first_iteration_ < 0) first_iteration_ = iteration;
   const torch::Tensor flat = violations.reshape({-1, kNumConstraints});
   const torch::Tensor local_max = std::get<0>(flat.max(0)).to(torch::kFloat64).contiguous();
   const std::vector<double> maxima =
@@ -43,14 +46,26 @@ torch::Tensor ConstraintTerminations::Probabilities(const torch::Tensor& violati
 }
 
 std::string ConstraintTerminations::State() const {
+  if (first_iteration_ < 0) return "";
   std::ostringstream out;
   out.precision(17);
-  for (double s : scale_) out << s << ' ';
+  out << "first_iteration " << first_iteration_ << " scales";
+  for (double s : scale_) out << ' ' << s;
   return out.str();
 }
 
 void ConstraintTerminations::Restore(const std::string& state, const std::string& where) {
   std::istringstream in(state);
+  std::string word;
+  // Checkpoints from before the ramp counted from the first constrained iteration hold the
+  // scales alone, and those runs started with constraints at iteration 0.
+  if (state.rfind("first_iteration", 0) == 0) {
+    if (!(in >> word >> first_iteration_ >> word) || first_iteration_ < 0 || word != "scales") {
+      throw InputError(where + ": constraint state: expected \"first_iteration <n> scales ...\", got \"" + state + "\"");
+    }
+  } else {
+    first_iteration_ = 0;
+  }
   for (double& s : scale_) {
     if (!(in >> s)) throw InputError(where + ": constraint scales: expected " + std::to_string(kNumConstraints) + " numbers");
   }

@@ -20,7 +20,9 @@ namespace flsd {
 
 struct ConstraintTerminationConfig {
   // The soft constraints' max_p ramps linearly from the first to the second value over
-  // ramp_iterations (CaT's curriculum: 0.05 to 0.25 over 1000 iterations).
+  // ramp_iterations (CaT's curriculum: 0.05 to 0.25 over 1000 iterations), counted from the first
+  // iteration that ran with constraints, so a run fine-tuned from an unconstrained checkpoint gets
+  // the whole curriculum too.
   Interval max_p{0.05, 0.25};
   int ramp_iterations = 1000;
   // A knee on the floor is a hard constraint, as CaT's body contacts: it always ends the episode.
@@ -50,7 +52,7 @@ class ConstraintTerminations {
   torch::Tensor Probabilities(const torch::Tensor& violations, int iteration, const Communicator& comm,
                               ConstraintStats& stats);
 
-  // The running scales, for checkpoints ("" before any batch).
+  // The first constrained iteration and the running scales, for checkpoints ("" before any batch).
   std::string State() const;
   void Restore(const std::string& state, const std::string& where);
 
@@ -58,6 +60,7 @@ class ConstraintTerminations {
   double MaxP(int constraint, int iteration) const;
 
   ConstraintTerminationConfig config_;
+  int first_iteration_ = -1;                     // the ramp's start; -1 before any batch
   std::array<double, kNumConstraints> scale_{};  // EMA of the largest violation; 0 before any
 };
 

@@ -33,8 +33,10 @@ std::string RunCheckpoint(const std::string& run_dir, int iteration);
 void KeepCheckpoint(const RunFolder& folder, int iteration);
 
 // Creates the folder, writes the resolved config atomically, and appends the build's commit to
-// the commits file (each sitting of a run adds one line).
-void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, bool resume);
+// the commits file (each sitting of a run adds one line; a run started from another run's
+// checkpoint names it).
+void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, bool resume,
+                    const std::string& from_checkpoint = "");
 
 // Runs trainer.RunIteration() until `iterations` or a stop request, appending `row(stats)` to
 // progress.csv and `line(stats, eta_seconds)` to the log, and checkpointing every

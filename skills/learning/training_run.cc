@@ -90,16 +90,24 @@ void KeepCheckpoint(const RunFolder& folder, int iteration) {
   });
 }
 
-void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, bool resume) {
+void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, bool resume,
+                    const std::string& from_checkpoint) {
   namespace fs = std::filesystem;
   fs::create_directories(folder.dir);
   WriteFileAtomically(folder.config_file, config_yaml + "\n");
   std::ofstream commits((fs::path(folder.dir) / "commits").string(), std::ios::app);
-  commits << FLSD_GIT_COMMIT << (resume ? " (resumed)" : "") << "\n";
+  commits << FLSD_GIT_COMMIT << (resume ? " (resumed)" : "")
+          << (from_checkpoint.empty() ? "" : " (from " + from_checkpoint + ")") << "\n";
 }
 
 int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop_requested) {
   const RunFolder folder = OpenRunFolder(options.run_dir, options.resume);
+  if (options.resume && !options.from_checkpoint.empty()) {
+    throw InputError("--from " + options.from_checkpoint + " starts a new run; a resumed run continues its own checkpoint");
+  }
+  if (!options.from_checkpoint.empty() && !std::filesystem::is_regular_file(options.from_checkpoint)) {
+    throw InputError("--from " + options.from_checkpoint + ": no such checkpoint file");
+  }
   TrainConfig config = LoadTrainConfig(options.resume ? folder.config_file : options.config_path);
   if (!options.method.empty()) {
     if (options.resume && options.method != config.method) {
@@ -119,7 +127,7 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
   ValidateTrainConfig(config, folder.config_file);
   const Communicator& comm = Communicator::World();
   if (comm.leader()) {
-    RecordRunStart(folder, ToYamlString(config), options.resume);
+    RecordRunStart(folder, ToYamlString(config), options.resume, options.from_checkpoint);
   } else {
     spdlog::set_level(spdlog::level::warn);  // the leader speaks for the job
   }
@@ -134,6 +142,10 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
   if (options.resume) {
     trainer.LoadCheckpoint(folder.checkpoint);
     spdlog::info("resumed {} at iteration {} ({} env steps)", options.run_dir, trainer.iteration(), trainer.env_steps());
+  } else if (!options.from_checkpoint.empty()) {
+    trainer.LoadCheckpoint(options.from_checkpoint);
+    spdlog::info("new {} run in {} from {} at iteration {} ({} env steps)", config.method, options.run_dir,
+                 options.from_checkpoint, trainer.iteration(), trainer.env_steps());
   } else {
     spdlog::info("new {} run in {}: {} skills, {} envs x {} steps per iteration, {} iterations",
                  config.method, options.run_dir, config.num_skills, config.num_envs, config.steps_per_env,

@@ -9,6 +9,9 @@ struct TrainingRunOptions {
   std::string method;       // "flsd" or "diayn"; empty: the config's
   std::string run_dir;
   bool resume = false;
+  // A new run's starting point: another run's checkpoint (networks, optimisers, normaliser,
+  // iteration and step counts), trained on with this run's config. Empty: from scratch.
+  std::string from_checkpoint;
   int iterations = 0;  // > 0: train until this many iterations in total
   int seed = -1;       // >= 0: a new run's seed instead of the config's (another seed, same config)
   int threads = 0;     // > 0: simulation threads (per rank) instead of the config's

@@ -56,6 +56,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"flsd", "diayn"}));
   train_cmd->add_option("--out", train.run_dir, "Run folder (config.yaml, checkpoint.pt, progress.csv)")->required();
   train_cmd->add_flag("--resume", train.resume, "Continue the run in --out from its checkpoint");
+  train_cmd->add_option("--from", train.from_checkpoint,
+                        "Start a new run from this checkpoint (fine-tuning with --config's settings)");
   train_cmd->add_option("--iterations", train.iterations, "Train until this many iterations in total")
       ->check(CLI::Range(1, 100000000));
   train_cmd->add_option("--seed", train.seed, "Seed of a new run (default: the config's)")->check(CLI::Range(0, 1 << 30));

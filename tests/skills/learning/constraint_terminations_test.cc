@@ -61,11 +61,26 @@ TEST(ConstraintTerminations, TheRunningScalesRoundTripThroughACheckpointString) 
   EXPECT_TRUE(torch::equal(cat.Probabilities(next, 100, Communicator::Self(), stats),
                            restored.Probabilities(next, 100, Communicator::Self(), stats)));
   try {
-    restored.Restore("0.1 0.2", "checkpoint.pt");
+    restored.Restore("first_iteration 0 scales 0.1 0.2", "checkpoint.pt");
     ADD_FAILURE() << "two scales were accepted";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "checkpoint.pt: constraint scales: expected 5 numbers");
   }
+}
+
+TEST(ConstraintTerminations, TheRampCountsFromTheFirstConstrainedIteration) {
+  // A run fine-tuned at iteration 4000 from an unconstrained checkpoint starts at max_p 0.05, is
+  // half way (0.15) 500 iterations later, and keeps its start through a checkpoint.
+  ConstraintTerminations cat(ConstraintTerminationConfig{}), restored(ConstraintTerminationConfig{});
+  ConstraintStats stats;
+  EXPECT_NEAR(cat.Probabilities(Violations(), 4000, Communicator::Self(), stats)[0][0].item<double>(), 0.05, 1e-7);
+  restored.Restore(cat.State(), "checkpoint.pt");
+  EXPECT_NEAR(restored.Probabilities(Violations(), 4500, Communicator::Self(), stats)[0][0].item<double>(), 0.15,
+              1e-6);
+  // A checkpoint of the scales alone (written before the start was saved) ramped from iteration 0.
+  ConstraintTerminations legacy(ConstraintTerminationConfig{});
+  legacy.Restore("0.4 0.1 0.1 2 1", "checkpoint.pt");
+  EXPECT_NEAR(legacy.Probabilities(Violations(), 500, Communicator::Self(), stats)[0][0].item<double>(), 0.15, 1e-6);
 }
 
 }  // namespace

@@ -16,9 +16,10 @@ double Yaw(const Eigen::Quaterniond& q) {
   return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
 }
 
-std::string Format(const char* format, double a, double b = 0.0, double c = 0.0) {
+template <class... Numbers>
+std::string Format(const char* format, Numbers... numbers) {
   char text[192];
-  std::snprintf(text, sizeof text, format, a, b, c);
+  std::snprintf(text, sizeof text, format, static_cast<double>(numbers)...);
   return text;
 }
 
@@ -133,6 +134,7 @@ bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, Plan
   PlannerOptions options;
   options.time_limit = config_.planning_time;
   options.waypoint_spacing = config_.waypoint_spacing;
+  options.clearance_margin = config_.clearance_margin;
   path = PlanPath(job.map, from, job.goal, options);
   if (path.status != PlannedPath::Status::kFound) {
     Finish(job, flsd_msgs_TASK_NO_PATH, path.message);
@@ -150,18 +152,20 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
   const Clock::time_point start = Clock::now();
   const auto period = std::chrono::duration<double>(1.0 / config_.rate_hz);
 
-  ControllerStatus status = controller_.status();
   PlannedPath path;
-  if (!Plan(job, status.state.base_position.head<2>(), path)) return;
+  if (!StepOutIfInside(job, generation) || !Plan(job, controller_.status().state.base_position.head<2>(), path)) {
+    return;
+  }
   spdlog::info("navigate to ({:.2f}, {:.2f}): {} waypoints, {:.2f} m, planned in {:.0f} ms", job.goal.x(),
                job.goal.y(), path.waypoints.size(), path.length, 1e3 * path.planning_seconds);
   WaypointFollower follower(path.waypoints, config_.follower);
   int replans = 0;
+  double last_replan = -HUGE_VAL;  // s since the start
   bool seen = false;  // the controller applies the task's request at its next tick
   for (Clock::time_point next = Clock::now(); !Superseded(generation); next += std::chrono::duration_cast<Clock::duration>(period)) {
     std::this_thread::sleep_until(next);
     next = std::max(next, Clock::now());  // after a long replan, go on from now rather than catch up
-    status = controller_.status();
+    const ControllerStatus status = controller_.status();
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
     if (!IsOurs(status, job)) {
       if (seen || elapsed > 1.0) return;  // ended elsewhere: stop, damp, safety, lease, preemption
@@ -170,28 +174,78 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
     seen = true;
     if (elapsed > job.timeout) {
       const double left = (job.goal - status.state.base_position.head<2>()).norm();
-      Finish(job, flsd_msgs_TASK_TIMEOUT, Format("timeout after %.0f s, %.2f m from the goal", elapsed, left));
+      Finish(job, flsd_msgs_TASK_TIMEOUT, Format("timeout after %.0f s, %.2f m from the goal, %.0f replans", elapsed, left, replans));
       return;
     }
     if (status.mode != flsd_msgs_MODE_NAVIGATE) continue;  // still standing up
     const Eigen::Vector2d position = status.state.base_position.head<2>();
-    const FollowerCommand command = follower.Update(position, Yaw(status.state.base_orientation));
+    const double free_clearance = job.map.Clearance(position) - job.map.robot_radius;
+    const FollowerCommand command = follower.Update(position, Yaw(status.state.base_orientation), free_clearance);
     if (command.reached) {
       Finish(job, flsd_msgs_TASK_SUCCEEDED,
-             Format("reached (%.2f, %.2f), %.2f m from the goal", position.x(), position.y(), (job.goal - position).norm()));
+             Format("reached (%.2f, %.2f), %.2f m from the goal, %.0f replans", position.x(), position.y(),
+                    (job.goal - position).norm(), replans));
       return;
     }
-    if (command.off_path) {
+    // Plan again when the robot strays off the path, or into the robot's radius of an obstacle
+    // (at most once a second there: the new path leads out, and walking out takes time).
+    const bool inside = free_clearance < -config_.replan_inside && elapsed - last_replan > 1.0;
+    if (command.off_path || inside) {
       ++replans;
-      spdlog::info("navigate: {:.2f} m off the path; replanning ({})", command.distance_to_path, replans);
-      Steer(job, Eigen::Vector3d::Zero(), "off the path: replanning");  // hold still while planning
-      if (!Plan(job, position, path)) return;
+      last_replan = elapsed;
+      spdlog::info("navigate: {}; replanning ({})",
+                   inside ? Format("%.2f m inside an obstacle's margin", -free_clearance)
+                          : Format("%.2f m off the path", command.distance_to_path),
+                   replans);
+      Steer(job, Eigen::Vector3d::Zero(), "replanning");  // hold still while planning
+      if (!StepOutIfInside(job, generation) || !Plan(job, controller_.status().state.base_position.head<2>(), path)) {
+        return;
+      }
       follower = WaypointFollower(path.waypoints, config_.follower);
       continue;
     }
     Steer(job, command.velocity,
           Format("%.2f m to go along the path, %.0f replans", command.remaining, replans));
   }
+}
+
+bool Navigator::StepOutIfInside(const NavigationJob& job, uint64_t generation) {
+  using Clock = std::chrono::steady_clock;
+  constexpr double kOut = 0.05;          // m outside the obstacle: the planner can start there
+  constexpr double kStepOutTime = 10.0;  // s of trying, standing up included
+  constexpr double kH = 0.02;            // m, the finite difference of the clearance's gradient
+  const Eigen::Vector2d start = controller_.status().state.base_position.head<2>();
+  if (job.map.Clearance(start) > 0.0) return true;
+  spdlog::info("navigate: the start ({:.2f}, {:.2f}) is inside an obstacle; stepping out", start.x(), start.y());
+  const auto period = std::chrono::duration<double>(1.0 / config_.rate_hz);
+  const Clock::time_point begin = Clock::now();
+  bool seen = false;
+  for (Clock::time_point next = begin; !Superseded(generation); next += std::chrono::duration_cast<Clock::duration>(period)) {
+    std::this_thread::sleep_until(next);
+    const ControllerStatus status = controller_.status();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - begin).count();
+    if (!IsOurs(status, job)) {
+      if (seen || elapsed > 1.0) return false;
+      continue;
+    }
+    seen = true;
+    const Eigen::Vector2d p = status.state.base_position.head<2>();
+    if (job.map.Clearance(p) > kOut) return true;
+    if (elapsed > kStepOutTime) {
+      Finish(job, flsd_msgs_TASK_NO_PATH,
+             Format("the robot at (%.2f, %.2f) did not step out of an obstacle in %.0f s", p.x(), p.y(), kStepOutTime));
+      return false;
+    }
+    if (status.mode != flsd_msgs_MODE_NAVIGATE) continue;  // still standing up
+    // Walk (without turning) up the clearance's gradient: the shortest way out.
+    const Eigen::Vector2d gradient(job.map.Clearance(p + Eigen::Vector2d(kH, 0)) - job.map.Clearance(p - Eigen::Vector2d(kH, 0)),
+                                   job.map.Clearance(p + Eigen::Vector2d(0, kH)) - job.map.Clearance(p - Eigen::Vector2d(0, kH)));
+    if (gradient.norm() < 1e-12) continue;
+    const double yaw = Yaw(status.state.base_orientation), c = std::cos(yaw), s = std::sin(yaw);
+    const Eigen::Vector2d out = gradient.normalized() * config_.follower.max_speed * config_.follower.min_speed_share;
+    Steer(job, Eigen::Vector3d(c * out.x() + s * out.y(), -s * out.x() + c * out.y(), 0.0), "stepping out of an obstacle");
+  }
+  return false;
 }
 
 void Navigator::Steer(const NavigationJob& job, const Eigen::Vector3d& velocity, const std::string& progress) {

@@ -77,6 +77,8 @@ struct NavigationConfig {
   std::string map;                 // YAML map file (server/navigation/map2d.h); empty: requests must send one
   double planning_time = 0.5;      // s of OMPL planning per (re)plan
   double waypoint_spacing = 0.5;   // m between waypoints at most
+  double clearance_margin = 0.15;  // m the path keeps beyond the robot's radius where it can
+  double replan_inside = 0.1;      // m into the robot's radius of an obstacle: plan again
   double timeout = 120.0;          // s a navigation may take, standing up included
   double rate_hz = 20.0;           // how often the follower steers
   FollowerConfig follower;
@@ -85,6 +87,8 @@ struct NavigationConfig {
     v("map", map);
     v("planning_time", planning_time, Bounds<double>{0.01, 30.0});
     v("waypoint_spacing", waypoint_spacing, Bounds<double>{0.05, 10.0});
+    v("clearance_margin", clearance_margin, Bounds<double>{0.0, 10.0});
+    v("replan_inside", replan_inside, Bounds<double>{0.0, 10.0});
     v("timeout", timeout, Bounds<double>{1.0, 86400.0});
     v("rate_hz", rate_hz, Bounds<double>{1.0, 50.0});
     v("follower", follower);

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 namespace flsd {
 namespace {
@@ -21,6 +22,57 @@ std::string Where(const Eigen::Vector2d& p) {
   char text[64];
   std::snprintf(text, sizeof text, "(%.2f, %.2f)", p.x(), p.y());
   return text;
+}
+
+// The simplified path's corners on `map` with `margin` beyond the robot's radius, or none.
+// States near the start need only be outside obstacles (a robot that strayed into the margin
+// walks back out), and states near the goal need only be free.
+std::optional<std::vector<Eigen::Vector2d>> Solve(const Map2D& map, const Eigen::Vector2d& start,
+                                                  const Eigen::Vector2d& goal, const PlannerOptions& options,
+                                                  double margin) {
+  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  ob::RealVectorBounds bounds(2);
+  bounds.setLow(0, map.x_min);
+  bounds.setHigh(0, map.x_max);
+  bounds.setLow(1, map.y_min);
+  bounds.setHigh(1, map.y_max);
+  space->setBounds(bounds);
+  og::SimpleSetup setup(space);
+  const double keep = map.robot_radius + margin;
+  setup.setStateValidityChecker([&map, &start, &goal, keep](const ob::State* s) {
+    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+    const Eigen::Vector2d p(v->values[0], v->values[1]);
+    const double clearance = map.Clearance(p);
+    return clearance >= keep || ((p - start).norm() < keep && clearance > 0.0) ||
+           ((p - goal).norm() < keep && clearance >= map.robot_radius);
+  });
+  const double extent = std::max(map.x_max - map.x_min, map.y_max - map.y_min);
+  setup.getSpaceInformation()->setStateValidityCheckingResolution(options.collision_resolution / extent);
+  ob::ScopedState<> from(space), to(space);
+  from[0] = start.x();
+  from[1] = start.y();
+  to[0] = goal.x();
+  to[1] = goal.y();
+  setup.setStartAndGoalStates(from, to);
+  auto objective = std::make_shared<ob::PathLengthOptimizationObjective>(setup.getSpaceInformation());
+  // The planner stops once a path is within 1 % of the straight line, which no path can beat (an
+  // open room then takes a millisecond, not the whole budget); an infinite threshold is met by
+  // any path, so the planner stops at its first one.
+  objective->setCostThreshold(ob::Cost(options.first_solution_only ? std::numeric_limits<double>::infinity()
+                                                                   : 1.01 * (goal - start).norm()));
+  setup.getProblemDefinition()->setOptimizationObjective(objective);
+  setup.setPlanner(std::make_shared<og::InformedRRTstar>(setup.getSpaceInformation()));
+
+  if (setup.solve(options.time_limit) != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
+  setup.simplifySolution();
+  const og::PathGeometric& path = setup.getSolutionPath();
+  std::vector<Eigen::Vector2d> corners;
+  for (std::size_t i = 0; i < path.getStateCount(); ++i) {
+    const auto* v = path.getState(i)->as<ob::RealVectorStateSpace::StateType>();
+    corners.emplace_back(v->values[0], v->values[1]);
+  }
+  return corners;
 }
 
 }  // namespace
@@ -65,53 +117,22 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
     return result;
   }
 
-  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
-  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
-  ob::RealVectorBounds bounds(2);
-  bounds.setLow(0, map.x_min);
-  bounds.setHigh(0, map.x_max);
-  bounds.setLow(1, map.y_min);
-  bounds.setHigh(1, map.y_max);
-  space->setBounds(bounds);
-  og::SimpleSetup setup(space);
-  setup.setStateValidityChecker([&map, &start](const ob::State* s) {
-    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
-    const Eigen::Vector2d p(v->values[0], v->values[1]);
-    return map.IsFree(p) || ((p - start).norm() < map.robot_radius && map.Clearance(p) > 0.0);
-  });
-  const double extent = std::max(map.x_max - map.x_min, map.y_max - map.y_min);
-  setup.getSpaceInformation()->setStateValidityCheckingResolution(options.collision_resolution / extent);
-  ob::ScopedState<> from(space), to(space);
-  from[0] = start.x();
-  from[1] = start.y();
-  to[0] = goal.x();
-  to[1] = goal.y();
-  setup.setStartAndGoalStates(from, to);
-  auto objective = std::make_shared<ob::PathLengthOptimizationObjective>(setup.getSpaceInformation());
-  // The planner stops once a path is within 1 % of the straight line, which no path can beat (an
-  // open room then takes a millisecond, not the whole budget); an infinite threshold is met by
-  // any path, so the planner stops at its first one.
-  objective->setCostThreshold(ob::Cost(options.first_solution_only ? std::numeric_limits<double>::infinity()
-                                                                   : 1.01 * (goal - start).norm()));
-  setup.getProblemDefinition()->setOptimizationObjective(objective);
-  setup.setPlanner(std::make_shared<og::InformedRRTstar>(setup.getSpaceInformation()));
-
-  const ob::PlannerStatus status = setup.solve(options.time_limit);
-  if (status != ob::PlannerStatus::EXACT_SOLUTION) {
-    result.status = PlannedPath::Status::kNoPath;
-    result.message = "no collision-free path from " + Where(start) + " to " + Where(goal) + " found in " +
-                     std::to_string(options.time_limit) + " s";
-  } else {
-    setup.simplifySolution();
-    const og::PathGeometric& path = setup.getSolutionPath();
-    std::vector<Eigen::Vector2d> corners;
-    for (std::size_t i = 0; i < path.getStateCount(); ++i) {
-      const auto* v = path.getState(i)->as<ob::RealVectorStateSpace::StateType>();
-      corners.emplace_back(v->values[0], v->values[1]);
+  for (const double margin : {options.clearance_margin, 0.0}) {
+    std::optional<std::vector<Eigen::Vector2d>> corners = Solve(map, start, goal, options, margin);
+    if (corners) {
+      result.status = PlannedPath::Status::kFound;
+      result.margin = margin;
+      result.length = 0.0;
+      for (size_t i = 1; i < corners->size(); ++i) result.length += ((*corners)[i] - (*corners)[i - 1]).norm();
+      result.waypoints = Densify(*corners, options.waypoint_spacing);
+      break;
     }
-    result.status = PlannedPath::Status::kFound;
-    result.waypoints = Densify(corners, options.waypoint_spacing);
-    result.length = path.length();
+    if (margin == 0.0) {
+      result.status = PlannedPath::Status::kNoPath;
+      result.message = "no collision-free path from " + Where(start) + " to " + Where(goal) + " found in " +
+                       std::to_string(options.time_limit) + " s";
+      break;
+    }
   }
   result.planning_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   return result;

@@ -1,7 +1,9 @@
 #pragma once
 // Plans a collision-free path on a Map2D with OMPL: an asymptotically optimal planner (informed
 // RRT*) for a fixed time, then OMPL's path simplification, then waypoints no further apart than
-// a set spacing, for the follower.
+// a set spacing, for the follower. A shortest path grazes every obstacle it passes at exactly the
+// robot's radius, where a walking robot's sway takes it inside; the planner therefore first keeps
+// a margin beyond the radius, and only where no such path is found (a narrow gap) plans without.
 
 #include <Eigen/Core>
 
@@ -17,6 +19,7 @@ struct PlannerOptions {
   double waypoint_spacing = 0.5;  // m, at most, between waypoints
   double collision_resolution = 0.02;  // m along a segment between checks
   bool first_solution_only = false;  // stop at the first path found instead of improving it
+  double clearance_margin = 0.0;  // m kept beyond the robot's radius where a path allows it
 };
 
 struct PlannedPath {
@@ -25,6 +28,7 @@ struct PlannedPath {
   std::vector<Eigen::Vector2d> waypoints;  // from the start to the goal, both included
   double length = 0.0;                     // m
   double planning_seconds = 0.0;
+  double margin = 0.0;  // m beyond the robot's radius the path keeps (but near its ends)
   std::string message;  // why, when not found
 };
 const char* ToString(PlannedPath::Status status);

@@ -14,7 +14,7 @@ WaypointFollower::WaypointFollower(std::vector<Eigen::Vector2d> waypoints, const
   for (size_t i = 1; i < waypoints_.size(); ++i) arc_.push_back(arc_.back() + (waypoints_[i] - waypoints_[i - 1]).norm());
 }
 
-FollowerCommand WaypointFollower::Update(const Eigen::Vector2d& position, double yaw) {
+FollowerCommand WaypointFollower::Update(const Eigen::Vector2d& position, double yaw, double free_clearance) {
   FollowerCommand out;
   // The closest point on the path at or beyond the progress so far (so loops are not cut short).
   double best = HUGE_VAL, best_arc = progress_;
@@ -54,11 +54,14 @@ FollowerCommand WaypointFollower::Update(const Eigen::Vector2d& position, double
   const Eigen::Vector2d to_target = target - position;
   const double c = std::cos(yaw), s = std::sin(yaw);
   const Eigen::Vector2d body(c * to_target.x() + s * to_target.y(), -s * to_target.x() + c * to_target.y());
-  // Slow down over the last half metre so as not to overshoot the goal.
-  const double speed = std::min(config_.max_speed, config_.max_speed * (position - waypoints_.back()).norm() / 0.5);
-  if (body.norm() > 1e-9) out.velocity.head<2>() = body.normalized() * speed;
   const double heading_error = std::atan2(body.y(), body.x());
   out.velocity.z() = std::clamp(config_.heading_gain * heading_error, -config_.max_turn_rate, config_.max_turn_rate);
+  if (std::abs(heading_error) > config_.turn_in_place_above) return out;
+  // Slow down over the last half metre so as not to overshoot the goal, and near obstacles.
+  const double room = config_.slow_clearance > 0.0 ? std::clamp(free_clearance / config_.slow_clearance, 0.0, 1.0) : 1.0;
+  const double share = config_.min_speed_share + (1.0 - config_.min_speed_share) * room;
+  const double speed = share * std::min(config_.max_speed, config_.max_speed * (position - waypoints_.back()).norm() / 0.5);
+  if (body.norm() > 1e-9) out.velocity.head<2>() = body.normalized() * speed * std::cos(heading_error);
   return out;
 }
 

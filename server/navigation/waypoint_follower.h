@@ -1,10 +1,13 @@
 #pragma once
 // Turns a planned path into body-frame velocity commands (vx, vy, wz) for the skill selector:
-// pure pursuit of a point `lookahead` metres further along the path, walking towards it (a
-// quadruped may step sideways) while turning to face the direction of travel.
+// pure pursuit of a point `lookahead` metres further along the path. Far off its heading the
+// robot turns in place first, then walks towards the point while turning to face it: learned
+// skill libraries turn and walk well, and walk sideways and turn at once badly. It slows down
+// where the room left beyond its radius is small, and over the last half metre.
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <vector>
 
 #include "core/config.h"
@@ -18,6 +21,11 @@ struct FollowerConfig {
   double heading_gain = 1.5;     // rad/s per rad of heading error
   double goal_tolerance = 0.25;  // m from the last waypoint counts as reached
   double replan_distance = 0.75;  // m off the path: plan again
+  double turn_in_place_above = 0.8;  // rad of heading error beyond which the robot only turns
+  // Speed scales with the clearance left beyond the robot's radius, down to min_speed_share of
+  // max_speed at none.
+  double slow_clearance = 0.4;  // m
+  double min_speed_share = 0.4;
   template <class V>
   void Visit(V& v) {
     v("lookahead", lookahead, Bounds<double>{0.05, 10.0});
@@ -26,6 +34,9 @@ struct FollowerConfig {
     v("heading_gain", heading_gain, Bounds<double>{0.0, 100.0});
     v("goal_tolerance", goal_tolerance, Bounds<double>{0.01, 10.0});
     v("replan_distance", replan_distance, Bounds<double>{0.05, 100.0});
+    v("turn_in_place_above", turn_in_place_above, Bounds<double>{0.0, 3.15});
+    v("slow_clearance", slow_clearance, Bounds<double>{0.0, 10.0});
+    v("min_speed_share", min_speed_share, Bounds<double>{0.0, 1.0});
   }
 };
 
@@ -41,8 +52,9 @@ class WaypointFollower {
  public:
   WaypointFollower(std::vector<Eigen::Vector2d> waypoints, const FollowerConfig& config);
 
-  // The command for a robot at `position` (world, m) heading `yaw` (rad).
-  FollowerCommand Update(const Eigen::Vector2d& position, double yaw);
+  // The command for a robot at `position` (world, m) heading `yaw` (rad), with `free_clearance` m
+  // between its radius and the nearest obstacle (Map2D::Clearance minus the robot's radius).
+  FollowerCommand Update(const Eigen::Vector2d& position, double yaw, double free_clearance = HUGE_VAL);
 
  private:
   std::vector<Eigen::Vector2d> waypoints_;

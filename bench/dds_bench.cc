@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <regex>
 #include <string>
 #include <thread>
@@ -25,9 +26,35 @@ struct PingResult {
   long count = 0;
 };
 
+// CYCLONEDDS_URI for this scope, with Cyclone's XML `extra` (if any) after the caller's: how the
+// ddsperf children get DDS Security.
+class ExtraCycloneConfig {
+ public:
+  explicit ExtraCycloneConfig(const std::string& extra) {
+    const char* old = std::getenv("CYCLONEDDS_URI");
+    had_old_ = old != nullptr;
+    if (had_old_) old_ = old;
+    if (extra.empty()) return;
+    setenv("CYCLONEDDS_URI", (old_.empty() ? extra : old_ + "," + extra).c_str(), 1);
+  }
+  ~ExtraCycloneConfig() {
+    if (had_old_) {
+      setenv("CYCLONEDDS_URI", old_.c_str(), 1);
+    } else {
+      unsetenv("CYCLONEDDS_URI");
+    }
+  }
+
+ private:
+  bool had_old_ = false;
+  std::string old_;
+};
+
 // Runs `ddsperf pong` in the background and `ddsperf ping` for `seconds`, and parses ping's
 // interval lines: "... size 12 mean 23.9us min 11.2us 50% 17.9us 90% 37.1us 99% 59.2us max ... cnt 20848".
-PingResult RunDdsperf(int domain_id, double seconds, double rate_hz) {
+// `cyclone_xml`: configuration both add to the caller's (empty: none).
+PingResult RunDdsperf(int domain_id, double seconds, double rate_hz, const std::string& cyclone_xml) {
+  const ExtraCycloneConfig config(cyclone_xml);
   const std::string domain = std::to_string(domain_id);
   const std::string duration = std::to_string(static_cast<int>(std::ceil(seconds)) + 1);
   const char* pong_argv[] = {"ddsperf", "-i", domain.c_str(), "-D", duration.c_str(), "pong", nullptr};
@@ -83,10 +110,10 @@ nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOpti
     if (!r.answered) ++unanswered;
     if (i >= 0 && r.answered) rtt_us.push_back(us);
   }
-  const PingResult ping = RunDdsperf(domain_id, options.ddsperf_seconds, options.rate_hz);
+  const PingResult ping = RunDdsperf(domain_id, options.ddsperf_seconds, options.rate_hz, dds::SecurityXml(options.security));
   const double p50 = Quantile(rtt_us, 0.5), p99 = Quantile(rtt_us, 0.99);
   const double ddsperf_rtt_p50 = 2.0 * ping.p50_us;
-  return {
+  nlohmann::json result = {
       {"benchmark", "skillctl bench"},
       {"calls", options.calls},
       {"rate_hz", options.rate_hz},
@@ -100,7 +127,15 @@ nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOpti
       {"ratio", p50 / ddsperf_rtt_p50},
       {"target_ratio_at_most", 1.5},
       {"machine", MachineDescription()},
+      {"dds_security", options.security.enabled},
   };
+  if (options.security.enabled) {  // what authentication and encryption add to a DDS round trip
+    const PingResult plain = RunDdsperf(domain_id, options.ddsperf_seconds, options.rate_hz, "");
+    result["ddsperf_unsecured_rtt_p50_us"] = 2.0 * plain.p50_us;
+    result["ddsperf_unsecured_rtt_p99_us"] = 2.0 * plain.p99_us;
+    result["security_cost_p50_us"] = ddsperf_rtt_p50 - 2.0 * plain.p50_us;
+  }
+  return result;
 }
 
 }  // namespace flsd

@@ -38,12 +38,20 @@ std::string CallResult::Describe() const {
 Client::Client(const Options& options)
     : id_(options.client_id.empty() ? MakeClientId() : options.client_id),
       options_(options),
-      domain_(options.domain_id, options.partition),
+      domain_(options.domain_id, options.partition, options.security),
       requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos),
       states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
       wake_(domain_),
       reply_listener_(&Client::OnReplies, this),
       replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos, &reply_listener_) {
+  if (domain_.secured()) {
+    const std::string identity = domain_.identity();
+    if (!options.client_id.empty() && options.client_id != identity) {
+      throw dds::Error("client id '" + options.client_id + "' cannot be used with DDS Security: the server accepts only " +
+                       "this participant's authenticated identity, " + identity);
+    }
+    id_ = identity;
+  }
   // Request ids grow across client restarts with a fixed id, too: start from the wall clock.
   next_request_id_ = static_cast<uint64_t>(dds_time());
   background_ = std::thread([this] { Background(); });

@@ -55,6 +55,9 @@ class Client {
     std::string partition = "flsd";
     std::string client_id;  // empty: host-pid-random
     std::chrono::milliseconds heartbeat{250};  // lease renewal period while in control
+    // DDS Security (comm/security.h): the client's id is then its participant's authenticated
+    // identity, the only one the server accepts from it; client_id must be empty or equal it.
+    dds::SecurityConfig security;
   };
 
   explicit Client(const Options& options);

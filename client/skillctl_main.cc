@@ -14,6 +14,7 @@
 #include "client/client.h"
 #include "client/navigation_picture.h"
 #include "comm/protocol.h"
+#include "core/config.h"
 
 namespace {
 
@@ -149,6 +150,11 @@ int main(int argc, char** argv) {
   app.add_option("--id", options.client_id,
                  "Client id (default: host-pid-random); give damp and clear the same one to clear at once")
       ->check([](const std::string& id) { return id.size() < 64 ? std::string() : std::string("at most 63 characters"); });
+  std::string security_file;
+  app.add_option("--security", security_file,
+                 "DDS Security: a YAML file with a security: section (scripts/make_pki.sh writes one per identity); "
+                 "the client id is then this identity's")
+      ->envname("FLSD_SECURITY");
 
   flsd::CallArgs args;
   double watch_seconds = 0.0;
@@ -200,6 +206,12 @@ int main(int argc, char** argv) {
       std::stringstream text;
       text << in.rdbuf();
       args.map_yaml = text.str();
+    }
+    if (!security_file.empty()) {
+      options.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
+      const std::string error = flsd::dds::SecurityFilesError(options.security, security_file + ":");
+      if (!error.empty()) throw flsd::InputError(error);
+      bench_options.security = options.security;
     }
     flsd::Client client(options);
     if (!client.WaitForServer(timeout)) {

@@ -31,15 +31,31 @@ Entity::~Entity() {
   if (handle_ > 0) dds_delete(handle_);
 }
 
-Domain::Domain(int domain_id, const std::string& partition) : domain_id_(domain_id) {
+Domain::Domain(int domain_id, const std::string& partition, const SecurityConfig& security)
+    : domain_id_(domain_id), secured_(security.enabled) {
   if (domain_id < 0 || domain_id > 232) {
     throw Error("DDS domain id " + std::to_string(domain_id) + " is outside 0..232");
   }
-  participant_ = Entity(Check(dds_create_participant(domain_id, nullptr, nullptr), "dds_create_participant"));
+  QosPtr participant_qos(dds_create_qos());
+  SetSecurityQos(participant_qos.get(), security);
+  const dds_entity_t participant = dds_create_participant(domain_id, participant_qos.get(), nullptr);
+  if (participant < 0 && security.enabled) {
+    // Cyclone's plugins print why (an untrusted or expired certificate, a bad signature...).
+    throw Error("dds_create_participant: DDS Security refused this participant's credentials (certificate " +
+                security.identity_certificate + ", permissions " + security.permissions +
+                "); Cyclone's message above says why: " + dds_strretcode(participant));
+  }
+  participant_ = Entity(Check(participant, "dds_create_participant"));
   QosPtr qos(dds_create_qos());
   if (!partition.empty()) dds_qset_partition1(qos.get(), partition.c_str());
   publisher_ = Entity(Check(dds_create_publisher(participant_.get(), qos.get(), nullptr), "dds_create_publisher"));
   subscriber_ = Entity(Check(dds_create_subscriber(participant_.get(), qos.get(), nullptr), "dds_create_subscriber"));
+}
+
+std::string Domain::identity() const {
+  dds_guid_t guid;
+  Check(dds_get_guid(participant_.get(), &guid), "dds_get_guid");
+  return ParticipantIdentity(guid);
 }
 
 dds_entity_t CreateTopic(const Domain& domain, const dds_topic_descriptor_t& type, const char* name) {

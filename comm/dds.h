@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "comm/security.h"
+
 namespace flsd::dds {
 
 class Error : public std::runtime_error {
@@ -47,18 +49,24 @@ struct EndpointQos {
 };
 
 // A participant with one publisher and one subscriber in `partition` (empty: the default
-// partition). Several servers and robots share a network by domain id and partition.
+// partition). Several servers and robots share a network by domain id and partition. With
+// `security` enabled the participant authenticates and is held to its permissions; creating it
+// fails if its own credentials do not validate.
 class Domain {
  public:
-  Domain(int domain_id, const std::string& partition);
+  Domain(int domain_id, const std::string& partition, const SecurityConfig& security = {});
 
   dds_entity_t participant() const { return participant_.get(); }
   dds_entity_t publisher() const { return publisher_.get(); }
   dds_entity_t subscriber() const { return subscriber_.get(); }
   int id() const { return domain_id_; }
+  bool secured() const { return secured_; }
+  // This participant's identity, as WriterIdentity gives it to the peers it writes to.
+  std::string identity() const;
 
  private:
   int domain_id_;
+  bool secured_;
   Entity participant_;
   Entity publisher_, subscriber_;
 };

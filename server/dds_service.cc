@@ -40,16 +40,20 @@ DdsService::DdsService(const ServerConfig& config, Controller& controller, const
     : controller_(controller),
       loop_(loop),
       backend_name_(std::move(backend_name)),
-      domain_(config.domain_id, config.partition),
+      domain_(config.domain_id, config.partition, config.security),
       replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
       states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
       navigator_(controller.has_selector() ? std::make_unique<Navigator>(controller, config.navigation) : nullptr),
       handler_(controller, config, navigator_.get()),
+      audit_(config.audit_log),
       skills_(MakeSkillInfos(controller.library())),
       listener_(&DdsService::OnRequests, this),
       requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos, &listener_) {}
 
 void DdsService::Start() {
+  if (domain_.secured()) {
+    spdlog::info("DDS Security on: skilld is {}; a request runs only under its writer's identity", domain_.identity());
+  }
   running_ = true;
   ServeRequests();  // any that came before
   poll_thread_ = std::thread([this] { PollLeases(); });
@@ -89,16 +93,34 @@ void DdsService::PollLeases() {
 
 void DdsService::ServeRequests() {
   std::lock_guard<std::mutex> lock(handler_mutex_);
-  requests_.Take([&](const flsd_msgs_Request& request, const dds_sample_info_t&) {
+  requests_.Take([&](const flsd_msgs_Request& request, const dds_sample_info_t& info) {
     const std::string client_id = request.header.client_id != nullptr ? request.header.client_id : "";
     const uint64_t request_id = request.header.request_id;
     const int64_t deadline_ns = request.header.deadline_ns;
+    const std::string& identity = domain_.secured() ? IdentityOf(info.publication_handle) : client_id;
+    std::string audited;  // empty: not a call the audit log records
+    if (AuditLog::Audited(request.call)) {
+      audited = AuditLog::Describe(domain_.secured() ? "identity " + identity + " (client_id " + client_id + ")"
+                                                     : "client_id " + client_id + " (unauthenticated)",
+                                   request);
+    }
     try {
-      const DeferredReply later = [this, client_id, request_id, deadline_ns](const ReplyContent& content) {
+      const DeferredReply later = [this, client_id, request_id, deadline_ns, audited](const ReplyContent& content) {
         SendReply(client_id, request_id, deadline_ns, content);
+        if (!audited.empty()) audit_.Record(audited, content);
       };
-      const std::optional<ReplyContent> reply = handler_.Handle(request, MonotonicSeconds(), dds_time(), later);
-      if (reply) SendReply(client_id, request_id, deadline_ns, *reply);
+      std::optional<ReplyContent> reply;
+      if (client_id != identity) {
+        // Before the handler: an impostor must not touch the lease, nor the ids and rate of the client it names.
+        reply.emplace();
+        reply->status = flsd_msgs_STATUS_INVALID_ARGUMENT;
+        reply->message = "client_id '" + client_id + "' is not the authenticated identity of its writer (" +
+                         (identity.empty() ? std::string("no longer matched") : identity) +
+                         "); with DDS Security a client's id is its participant's identity; not executed";
+      } else {
+        reply = handler_.Handle(request, MonotonicSeconds(), dds_time(), later);
+      }
+      if (reply) later(*reply);
     } catch (const std::exception& e) {
       // Nothing a client sends may stop the server; say what went wrong instead.
       spdlog::error("request '{}' from '{}' failed: {}", request.call ? request.call : "",
@@ -112,6 +134,18 @@ void DdsService::ServeRequests() {
   dropped_ = handler_.dropped();
   std::lock_guard<std::mutex> holder_lock(holder_mutex_);
   holder_ = handler_.controller_id();
+}
+
+const std::string& DdsService::IdentityOf(dds_instance_handle_t publication) {
+  auto it = identities_.find(publication);
+  if (it != identities_.end()) return it->second;
+  if (identities_.size() >= 1024) identities_.clear();  // writers come and go; looking one up again is cheap
+  std::string identity = dds::WriterIdentity(requests_.get(), publication);
+  if (identity.empty()) {  // gone already: refuse this sample, but look again next time
+    static const std::string kNone;
+    return kNone;
+  }
+  return identities_.emplace(publication, std::move(identity)).first->second;
 }
 
 void DdsService::SendReply(const std::string& client_id, uint64_t request_id, int64_t deadline_ns,

@@ -2,7 +2,9 @@
 // skilld's DDS face. Requests are handled on Cyclone's receive thread as they arrive (a data
 // listener: no thread hand-off, so a damp reaches the controller within microseconds); a poll
 // thread lets silent leases lapse; a telemetry thread publishes one state sample per control
-// tick. None touches the robot; all go through the Controller.
+// tick. None touches the robot; all go through the Controller. With DDS Security on, a request
+// is executed only if its client_id is its writer's authenticated identity (comm/security.h), so
+// the lease, request ids and rate limits all belong to identities; motion calls are audited.
 
 #include <atomic>
 #include <condition_variable>
@@ -10,9 +12,11 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "comm/dds.h"
+#include "server/audit_log.h"
 #include "server/control_loop.h"
 #include "server/request_handler.h"
 
@@ -32,6 +36,8 @@ class DdsService {
  private:
   static void OnRequests(dds_entity_t reader, void* self);
   void ServeRequests();  // takes and answers whatever requests are waiting
+  // The authenticated identity of the writer of a request (cached: one lookup per writer).
+  const std::string& IdentityOf(dds_instance_handle_t publication);
   void PollLeases();
   void PublishState();
   // Thread-safe: the navigator answers navigate requests whose maps it has read.
@@ -49,6 +55,8 @@ class DdsService {
   // read on the navigator's thread), so an emergency stop never waits here for long.
   std::mutex handler_mutex_;
   RequestHandler handler_;
+  AuditLog audit_;
+  std::unordered_map<dds_instance_handle_t, std::string> identities_;  // under handler_mutex_
   std::vector<flsd_msgs_SkillInfo> skills_;
   std::atomic<bool> running_{false};
   std::mutex poll_mutex_;

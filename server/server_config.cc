@@ -15,6 +15,9 @@ ServerConfig LoadServerConfig(const std::string& path) {
       throw InputError(path + ": selector: " + e.what() + " or auto");
     }
   }
+  if (const std::string error = dds::SecurityFilesError(config.security, path + ":"); !error.empty()) {
+    throw InputError(error);
+  }
   return config;
 }
 

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "comm/security.h"
 #include "core/config.h"
 #include "hw/hw_backend.h"
 #include "robot/a1.h"
@@ -117,6 +118,12 @@ struct ServerConfig {
   NavigationConfig navigation;
   SimBackendConfig sim;
   hw::HwConfig hw;
+  // DDS Security (comm/security.h, docs/security.md): off by default; when on, a request is
+  // executed only under its writer's authenticated identity.
+  dds::SecurityConfig security;
+  // Motion calls, accepted and refused, with who sent them, are logged; with a path, also
+  // appended to this file (created with mode 0600).
+  std::string audit_log;
   template <class V>
   void Visit(V& v) {
     v("domain_id", domain_id, Bounds<int>{0, 232});
@@ -136,6 +143,8 @@ struct ServerConfig {
     v("navigation", navigation);
     v("sim", sim);
     v("hw", hw);
+    v("security", security);
+    v("audit_log", audit_log);
   }
 };
 

@@ -105,10 +105,10 @@ nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOpti
     std::this_thread::sleep_until(next);
     next += period;
     const auto start = Clock::now();
-    const CallResult r = client.Call("status", {}, std::chrono::milliseconds(1000));
+    const Reply r = client.Status(std::chrono::milliseconds(1000));
     const double us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
-    if (!r.answered) ++unanswered;
-    if (i >= 0 && r.answered) rtt_us.push_back(us);
+    if (!r.answered()) ++unanswered;
+    if (i >= 0 && r.answered()) rtt_us.push_back(us);
   }
   const PingResult ping = RunDdsperf(domain_id, options.ddsperf_seconds, options.rate_hz, dds::SecurityXml(options.security));
   const double p50 = Quantile(rtt_us, 0.5), p99 = Quantile(rtt_us, 0.99);

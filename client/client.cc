@@ -2,10 +2,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
-
-#include "comm/protocol.h"
 
 namespace flsd {
 namespace {
@@ -25,14 +24,74 @@ constexpr std::chrono::microseconds kSpin{1000};
 // Long enough for a slow network and some clock skew between client and server (deadlines are
 // wall-clock times), short enough to renew a lease of a second before it lapses.
 constexpr std::chrono::milliseconds kHeartbeatTimeout{800};
+// Reports kept of this client's own tasks; a script waits on its few latest.
+constexpr std::size_t kTrackedTasks = 32;
+
+template <std::size_t N>
+std::array<double, N> ToArray(const double (&values)[N]) {
+  std::array<double, N> a;
+  std::copy(values, values + N, a.begin());
+  return a;
+}
+
+SkillInfo ToSkillInfo(const flsd_msgs_SkillInfo& m) {
+  SkillInfo s;
+  s.id = m.id;
+  s.linear_velocity = ToArray(m.linear_velocity);
+  s.angular_velocity = ToArray(m.angular_velocity);
+  s.base_height = m.base_height;
+  s.gait_frequency = m.gait_frequency;
+  s.survival_steps = m.survival_steps;
+  return s;
+}
+
+TaskReport ToTaskReport(const StateSample& s) {
+  TaskReport t;
+  t.client_id = s.task_client_id;
+  t.request_id = s.msg.task.request_id;
+  t.call = s.task_call;
+  t.state = static_cast<TaskState>(s.msg.task.state);
+  t.elapsed = s.msg.task.elapsed;
+  t.remaining = s.msg.task.remaining;
+  t.message = s.task_message;
+  t.path = s.task_path;
+  return t;
+}
+
+RobotState ToRobotState(const StateSample& s) {
+  const flsd_msgs_RobotState& m = s.msg;
+  RobotState r;
+  r.time = m.time;
+  r.tick = m.tick;
+  r.backend = s.backend;
+  r.mode = static_cast<Mode>(m.mode);
+  r.skill = m.skill;
+  r.position = ToArray(m.position);
+  r.orientation = ToArray(m.orientation);
+  r.linear_velocity = ToArray(m.linear_velocity);
+  r.angular_velocity = ToArray(m.angular_velocity);
+  r.joint_position = ToArray(m.joint_position);
+  r.joint_velocity = ToArray(m.joint_velocity);
+  r.joint_torque = ToArray(m.joint_torque);
+  std::copy(m.foot_contact, m.foot_contact + 4, r.foot_contact.begin());
+  r.faults = m.faults;
+  r.fault_message = s.fault_message;
+  r.controller = s.controller;
+  r.deadline_misses = m.deadline_misses;
+  r.requests_dropped = m.requests_dropped;
+  r.task = ToTaskReport(s);
+  return r;
+}
 
 }  // namespace
 
-std::string CallResult::Describe() const {
-  if (!answered) return "no reply from skilld";
-  std::string text = std::string(dds::StatusName(status)) + ": " + message;
-  if (!safety_report.empty()) text += " [safety: " + safety_report + "]";
-  return text;
+Reply CallResult::reply() const {
+  Reply r;
+  r.request_id = request_id;
+  r.status = answered ? static_cast<ReplyStatus>(status) : ReplyStatus::kNoReply;
+  r.message = message;
+  r.safety_report = safety_report;
+  return r;
 }
 
 Client::Client(const Options& options)
@@ -70,7 +129,7 @@ bool Client::WaitForServer(std::chrono::milliseconds timeout) {
   while (std::chrono::steady_clock::now() < until) {
     // A round trip proves both directions are matched; until then a reply could be lost.
     if (requests_.matched_readers() > 0 && replies_.matched_writers() > 0 &&
-        Call("status", {}, std::chrono::milliseconds(200)).answered) {
+        Call(dds::CallName(dds::Call::kStatus), {}, std::chrono::milliseconds(200)).answered) {
       return true;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -140,8 +199,55 @@ void Client::TakeReplies(dds_entity_t reader) {
   if (reply_ready_) reply_arrived_.notify_all();
 }
 
-CallResult Client::AcquireControl(std::chrono::milliseconds timeout) {
-  CallResult r = Call("acquire_control", {}, timeout);
+Reply Client::Simple(dds::Call call, std::chrono::milliseconds timeout) {
+  return Call(dds::CallName(call), {}, timeout).reply();
+}
+
+Task Client::Long(dds::Call call, const CallArgs& args, std::chrono::milliseconds timeout) {
+  return Task(*this, Call(dds::CallName(call), args, timeout).reply());
+}
+
+std::vector<SkillInfo> Client::ListSkills(std::chrono::milliseconds timeout) {
+  const CallResult r = Call(dds::CallName(dds::Call::kListSkills), {}, timeout);
+  if (!r.ok()) throw CallError(r.reply());
+  std::vector<SkillInfo> skills;
+  for (const flsd_msgs_SkillInfo& s : r.skills) skills.push_back(ToSkillInfo(s));
+  return skills;
+}
+
+Reply Client::Status(std::chrono::milliseconds timeout) { return Simple(dds::Call::kStatus, timeout); }
+
+Task Client::ExecuteSkill(int skill, double duration, std::chrono::milliseconds timeout) {
+  CallArgs args;
+  args.skill = skill;
+  args.duration = duration;
+  return Long(dds::Call::kExecuteSkill, args, timeout);
+}
+
+Task Client::TrackVelocity(double vx, double vy, double wz, double duration, std::chrono::milliseconds timeout) {
+  CallArgs args;
+  args.velocity = {vx, vy, wz};
+  args.duration = duration;
+  return Long(dds::Call::kTrackVelocity, args, timeout);
+}
+
+Task Client::Navigate(double x, double y, const std::string& map_yaml, double duration,
+                      std::chrono::milliseconds timeout) {
+  CallArgs args;
+  args.goal = {x, y};
+  args.map_yaml = map_yaml;
+  args.duration = duration;
+  return Long(dds::Call::kNavigate, args, timeout);
+}
+
+Reply Client::Stop(std::chrono::milliseconds timeout) { return Simple(dds::Call::kStop, timeout); }
+Reply Client::Stand(std::chrono::milliseconds timeout) { return Simple(dds::Call::kStand, timeout); }
+Reply Client::Reset(std::chrono::milliseconds timeout) { return Simple(dds::Call::kReset, timeout); }
+Reply Client::Damp(std::chrono::milliseconds timeout) { return Simple(dds::Call::kDamp, timeout); }
+Reply Client::ClearStop(std::chrono::milliseconds timeout) { return Simple(dds::Call::kClearStop, timeout); }
+
+Reply Client::AcquireControl(std::chrono::milliseconds timeout) {
+  Reply r = Simple(dds::Call::kAcquireControl, timeout);
   if (r.ok()) {
     lost_control_ = false;
     in_control_ = true;
@@ -149,9 +255,64 @@ CallResult Client::AcquireControl(std::chrono::milliseconds timeout) {
   return r;
 }
 
-CallResult Client::ReleaseControl(std::chrono::milliseconds timeout) {
+Reply Client::ReleaseControl(std::chrono::milliseconds timeout) {
   in_control_ = false;
-  return Call("release_control", {}, timeout);
+  return Simple(dds::Call::kReleaseControl, timeout);
+}
+
+std::optional<RobotState> Client::State() const {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!latest_) return std::nullopt;
+  return ToRobotState(*latest_);
+}
+
+std::optional<RobotState> Client::NextState(uint64_t after, std::chrono::milliseconds timeout) const {
+  const std::optional<StateSample> s =
+      WaitForState([after](const StateSample& sample) { return sample.msg.tick > after; }, timeout);
+  if (!s) return std::nullopt;
+  return ToRobotState(*s);
+}
+
+TaskReport Client::TaskProgress(uint64_t request_id) const {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  const auto it = tasks_.find(request_id);
+  if (it != tasks_.end()) return it->second;
+  TaskReport none;
+  none.client_id = id_;
+  none.request_id = request_id;
+  return none;
+}
+
+bool Client::WaitForTask(uint64_t request_id, std::chrono::milliseconds timeout) const {
+  std::unique_lock<std::mutex> lock(state_mutex_);
+  return state_arrived_.wait_for(lock, timeout, [&] {
+    const auto it = tasks_.find(request_id);
+    return it != tasks_.end() && it->second.ended();
+  });
+}
+
+void Client::TrackTasks(const StateSample& sample) {
+  const bool ours = sample.task_client_id == id_;
+  const uint64_t current = sample.msg.task.request_id;
+  // The state topic carries one task, the last: one of ours still running that it no longer
+  // names was ended by the call that replaced it.
+  for (auto& [request_id, report] : tasks_) {
+    if (report.state == TaskState::kRunning && !(ours && request_id == current)) {
+      report.state = TaskState::kPreempted;
+      report.message = "replaced by " + std::string(sample.task_call) + " from " + sample.task_client_id;
+    }
+  }
+  if (!ours) return;
+  tasks_[current] = ToTaskReport(sample);
+  if (tasks_.size() > kTrackedTasks) tasks_.erase(tasks_.begin());
+}
+
+TaskReport Task::Progress() const { return client_->TaskProgress(request_id()); }
+
+bool Task::Done() const { return !accepted() || Progress().ended(); }
+
+bool Task::Wait(std::chrono::milliseconds timeout) const {
+  return !accepted() || client_->WaitForTask(request_id(), timeout);
 }
 
 std::optional<StateSample> Client::LatestState() const {
@@ -189,6 +350,7 @@ void Client::Background() {
       s.msg.task.path = {};
       {
         std::lock_guard<std::mutex> lock(state_mutex_);
+        TrackTasks(s);
         latest_ = std::move(s);
       }
       state_arrived_.notify_all();
@@ -197,7 +359,7 @@ void Client::Background() {
     if (in_control_ && now >= next_heartbeat) {
       next_heartbeat = now + options_.heartbeat;
       // A slow or late heartbeat is not a lost lease; only the server saying so is.
-      const CallResult r = Call("renew_control", {}, kHeartbeatTimeout);
+      const CallResult r = Call(dds::CallName(dds::Call::kRenewControl), {}, kHeartbeatTimeout);
       if (r.answered && r.status == flsd_msgs_STATUS_NOT_IN_CONTROL) {
         lost_control_ = true;
         in_control_ = false;

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -25,39 +26,33 @@ constexpr int kExitTaskFailed = 4;
 std::atomic<bool> g_interrupted{false};
 void OnSignal(int) { g_interrupted = true; }
 
-void PrintState(const flsd::StateSample& s) {
-  const flsd_msgs_RobotState& m = s.msg;
-  std::printf("t %7.2f  %-8s", m.time, flsd::dds::ModeName(m.mode));
-  if (m.skill >= 0) std::printf(" %-3d", m.skill); else std::printf("    ");
-  std::printf("  xyz %6.2f %6.2f %5.2f  v %5.2f %5.2f  wz %5.2f", m.position[0], m.position[1], m.position[2],
-              m.linear_velocity[0], m.linear_velocity[1], m.angular_velocity[2]);
-  if (m.faults != 0) std::printf("  FAULT %s", s.fault_message.c_str());
+void PrintState(const flsd::RobotState& s) {
+  std::printf("t %7.2f  %-8s", s.time, flsd::Name(s.mode));
+  if (s.skill >= 0) std::printf(" %-3d", s.skill); else std::printf("    ");
+  std::printf("  xyz %6.2f %6.2f %5.2f  v %5.2f %5.2f  wz %5.2f", s.position[0], s.position[1], s.position[2],
+              s.linear_velocity[0], s.linear_velocity[1], s.angular_velocity[2]);
+  if (s.faults != 0) std::printf("  FAULT %s", s.fault_message.c_str());
   std::printf("\n");
   std::fflush(stdout);
-}
-
-double Yaw(const flsd_msgs_RobotState& m) {
-  const double w = m.orientation[0], x = m.orientation[1], y = m.orientation[2], z = m.orientation[3];
-  return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
 }
 
 // What the robot did while the motion ran: where it went, how fast, and whether it fell.
 struct MotionSummary {
   bool started = false;
-  double t0 = 0.0, x0 = 0.0, y0 = 0.0, yaw0 = 0.0, turned = 0.0, last_yaw = 0.0;
+  double t0 = 0.0, x0 = 0.0, y0 = 0.0, turned = 0.0, last_yaw = 0.0;
   double t1 = 0.0, x1 = 0.0, y1 = 0.0;
 
-  void Add(const flsd_msgs_RobotState& m) {
-    const bool moving = m.mode == flsd_msgs_MODE_SKILL || m.mode == flsd_msgs_MODE_VELOCITY || m.mode == flsd_msgs_MODE_NAVIGATE;
+  void Add(const flsd::RobotState& s) {
+    const bool moving = s.mode == flsd::Mode::kSkill || s.mode == flsd::Mode::kVelocity || s.mode == flsd::Mode::kNavigate;
     if (!moving) return;
-    const double yaw = Yaw(m);
+    const double yaw = s.yaw();
     if (!started) {
       started = true;
-      t0 = m.time, x0 = m.position[0], y0 = m.position[1], last_yaw = yaw0 = yaw;
+      t0 = s.time, x0 = s.position[0], y0 = s.position[1], last_yaw = yaw;
     }
     turned += std::remainder(yaw - last_yaw, 2.0 * M_PI);  // unwrapped
     last_yaw = yaw;
-    t1 = m.time, x1 = m.position[0], y1 = m.position[1];
+    t1 = s.time, x1 = s.position[0], y1 = s.position[1];
   }
   void Print(bool fell, const std::string& why) const {
     const double t = t1 - t0, d = std::hypot(x1 - x0, y1 - y0);
@@ -68,66 +63,75 @@ struct MotionSummary {
 
 // Follows this client's long call until it ends; Ctrl-C stops the robot.
 // With `record`, keeps what a navigation planned and where the robot walked.
-int FollowTask(flsd::Client& client, const std::string& call, uint64_t request_id, bool quiet,
+int FollowTask(flsd::Client& client, const char* call, const flsd::Task& task, bool quiet,
                flsd::NavigationRecord* record = nullptr) {
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start - std::chrono::seconds(1);
-  bool seen = false;  // a state naming this client's task
   MotionSummary summary;
   uint64_t last_tick = 0;
   for (;;) {
     if (g_interrupted) {
       std::printf("interrupted: stopping\n");
-      client.Call("stop");
+      (void)client.Stop();
       return kExitTaskFailed;
     }
-    // Each sample once: waiting for any sample would return the latest again at once.
-    const std::optional<flsd::StateSample> s = client.WaitForState(
-        [&](const flsd::StateSample& sample) { return sample.msg.tick > last_tick; }, std::chrono::milliseconds(1000));
+    // Each sample once: the latest again would count twice.
+    const std::optional<flsd::RobotState> s = client.NextState(last_tick, std::chrono::milliseconds(1000));
     if (!s) {
       std::fprintf(stderr, "skillctl: no state from skilld for 1 s\n");
       return kExitNoServer;
     }
-    last_tick = s->msg.tick;
-    summary.Add(s->msg);
-    const bool ours = s->task_client_id == client.id() && s->msg.task.request_id == request_id;
+    last_tick = s->tick;
+    summary.Add(*s);
+    const flsd::TaskReport progress = task.Progress();
+    const bool ours = s->task.client_id == client.id() && s->task.request_id == task.request_id();
     if (record != nullptr && ours) {
-      if (!s->task_path.empty() && (record->planned.empty() || record->planned.back() != s->task_path)) {
-        record->planned.push_back(s->task_path);
+      if (!s->task.path.empty() && (record->planned.empty() || record->planned.back() != s->task.path)) {
+        record->planned.push_back(s->task.path);
       }
-      if (s->msg.mode == flsd_msgs_MODE_NAVIGATE) {
-        record->walked_x.push_back(s->msg.position[0]);
-        record->walked_y.push_back(s->msg.position[1]);
+      if (s->mode == flsd::Mode::kNavigate) {
+        record->walked_x.push_back(s->position[0]);
+        record->walked_y.push_back(s->position[1]);
       }
     }
     const auto now = std::chrono::steady_clock::now();
-    seen |= ours;
-    if (!seen && now - start > std::chrono::seconds(3)) {
-      std::fprintf(stderr, "skillctl: the server accepted %s but never reported it on the state topic\n", call.c_str());
+    if (progress.state == flsd::TaskState::kNone && now - start > std::chrono::seconds(3)) {
+      std::fprintf(stderr, "skillctl: the server accepted %s but never reported it on the state topic\n", call);
       return kExitTaskFailed;
     }
     if (!quiet && now - last_print >= std::chrono::milliseconds(500)) {
       PrintState(*s);
       last_print = now;
     }
-    if (ours && s->msg.task.state != flsd_msgs_TASK_RUNNING) {
+    if (progress.ended()) {
       if (!quiet) PrintState(*s);
-      std::printf("%s %s: %s\n", call.c_str(), flsd::dds::TaskStateName(s->msg.task.state), s->task_message.c_str());
-      if (record != nullptr) {
-        record->outcome = call + " " + flsd::dds::TaskStateName(s->msg.task.state) + ": " + s->task_message;
-      }
-      summary.Print(s->msg.task.state == flsd_msgs_TASK_SAFETY_STOP, s->task_message);
-      return s->msg.task.state == flsd_msgs_TASK_SUCCEEDED ? 0 : kExitTaskFailed;
+      const std::string outcome = std::string(call) + " " + flsd::Name(progress.state) + ": " + progress.message;
+      std::printf("%s\n", outcome.c_str());
+      if (record != nullptr) record->outcome = outcome;
+      summary.Print(progress.state == flsd::TaskState::kSafetyStop, progress.message);
+      return progress.state == flsd::TaskState::kSucceeded ? 0 : kExitTaskFailed;
     }
     if (client.lost_control()) {
-      std::printf("%s: control was lost\n", call.c_str());
+      std::printf("%s: control was lost\n", call);
       return kExitTaskFailed;
     }
   }
 }
 
-int Report(const flsd::CallResult& r) {
-  if (!r.answered) {
+// Holds control until the robot stands, or `timeout` passes.
+void WaitForStand(const flsd::Client& client, std::chrono::milliseconds timeout) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  uint64_t tick = 0;
+  while (std::chrono::steady_clock::now() < until) {
+    const std::optional<flsd::RobotState> s = client.NextState(tick, std::chrono::milliseconds(200));
+    if (!s) continue;
+    if (s->mode == flsd::Mode::kStand) return;
+    tick = s->tick;
+  }
+}
+
+int Report(const flsd::Reply& r) {
+  if (!r.answered()) {
     std::fprintf(stderr, "skillctl: %s\n", r.Describe().c_str());
     return kExitNoServer;
   }
@@ -156,24 +160,27 @@ int main(int argc, char** argv) {
                  "the client id is then this identity's")
       ->envname("FLSD_SECURITY");
 
-  flsd::CallArgs args;
+  int skill_id = 0;
+  double duration = 0.0;
+  std::array<double, 3> velocity{};
+  std::array<double, 2> goal{};
   double watch_seconds = 0.0;
   std::string map_file;
   app.add_subcommand("list", "List the library's skills");
   app.add_subcommand("status", "Print the server's mode, control holder and faults");
   CLI::App* skill = app.add_subcommand("skill", "Run skill K for --duration seconds, then stand");
-  skill->add_option("k", args.skill, "Skill id")->required();
-  skill->add_option("--duration", args.duration, "Seconds")->required();
+  skill->add_option("k", skill_id, "Skill id")->required();
+  skill->add_option("--duration", duration, "Seconds")->required();
   CLI::App* vel = app.add_subcommand("vel", "Track a body velocity for --duration seconds");
-  vel->add_option("vx", args.velocity[0], "m/s")->required();
-  vel->add_option("vy", args.velocity[1], "m/s")->required();
-  vel->add_option("wz", args.velocity[2], "rad/s")->required();
-  vel->add_option("--duration", args.duration, "Seconds")->required();
+  vel->add_option("vx", velocity[0], "m/s")->required();
+  vel->add_option("vy", velocity[1], "m/s")->required();
+  vel->add_option("wz", velocity[2], "rad/s")->required();
+  vel->add_option("--duration", duration, "Seconds")->required();
   CLI::App* go = app.add_subcommand("goto", "Walk to (X, Y) around the map's obstacles");
-  go->add_option("x", args.goal[0], "m")->required();
-  go->add_option("y", args.goal[1], "m")->required();
+  go->add_option("x", goal[0], "m")->required();
+  go->add_option("y", goal[1], "m")->required();
   go->add_option("--map", map_file, "Map (YAML); default: the server's");
-  go->add_option("--duration", args.duration, "Give up after this many seconds (default: the server's timeout)");
+  go->add_option("--duration", duration, "Give up after this many seconds (default: the server's timeout)");
   std::string picture;
   go->add_option("--picture", picture, "Write the planned and walked paths to this SVG");
   app.add_subcommand("stop", "End the current motion; the robot stands");
@@ -197,6 +204,7 @@ int main(int argc, char** argv) {
   const std::string command = app.get_subcommands().front()->get_name();
   const auto timeout = std::chrono::milliseconds(static_cast<int>(timeout_s * 1000));
   try {
+    std::string map_yaml;
     if (!map_file.empty()) {
       std::ifstream in(map_file);
       if (!in) {
@@ -205,7 +213,7 @@ int main(int argc, char** argv) {
       }
       std::stringstream text;
       text << in.rdbuf();
-      args.map_yaml = text.str();
+      map_yaml = text.str();
     }
     if (!security_file.empty()) {
       options.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
@@ -220,18 +228,18 @@ int main(int argc, char** argv) {
       return kExitNoServer;
     }
     if (command == "list") {
-      const flsd::CallResult r = client.Call("list_skills");
-      if (!r.ok()) return Report(r);
+      const std::vector<flsd::SkillInfo> skills = client.ListSkills();
       std::printf("%-5s %8s %8s %8s %8s %8s %9s\n", "skill", "vx m/s", "vy m/s", "wz rad/s", "height m", "gait Hz",
                   "survival");
-      for (const flsd_msgs_SkillInfo& s : r.skills) {
+      for (const flsd::SkillInfo& s : skills) {
         std::printf("%-5d %8.2f %8.2f %8.2f %8.3f %8.2f %9d\n", s.id, s.linear_velocity[0], s.linear_velocity[1],
                     s.angular_velocity[2], s.base_height, s.gait_frequency, s.survival_steps);
       }
       return 0;
     }
-    if (command == "status" || command == "damp") return Report(client.Call(command));
-    if (command == "clear") return Report(client.Call("clear_stop"));
+    if (command == "status") return Report(client.Status());
+    if (command == "damp") return Report(client.Damp());
+    if (command == "clear") return Report(client.ClearStop());
     if (command == "bench") {
       std::printf("%s\n", flsd::RunDdsBenchmark(client, options.domain_id, bench_options).dump(2).c_str());
       return 0;
@@ -239,7 +247,7 @@ int main(int argc, char** argv) {
     if (command == "watch") {
       const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int>(watch_seconds * 1000));
       while (!g_interrupted && (watch_seconds <= 0.0 || std::chrono::steady_clock::now() < until)) {
-        const auto s = client.WaitForState([](const flsd::StateSample&) { return true; }, std::chrono::milliseconds(1000));
+        const std::optional<flsd::RobotState> s = client.NextState(0, std::chrono::milliseconds(1000));
         if (!s) {
           std::fprintf(stderr, "skillctl: no state from skilld for 1 s\n");
           return kExitNoServer;
@@ -251,31 +259,42 @@ int main(int argc, char** argv) {
     }
 
     // Motion: take control for the length of the command.
-    const flsd::CallResult acquired = client.AcquireControl(timeout);
+    const flsd::Reply acquired = client.AcquireControl(timeout);
     if (!acquired.ok()) return Report(acquired);
-    static const std::map<std::string, std::string> kCalls = {
-        {"skill", "execute_skill"}, {"vel", "track_velocity"}, {"goto", "navigate"},
-        {"stop", "stop"},           {"stand", "stand"},        {"reset", "reset"}};
-    const std::string call = kCalls.at(command);
-    const flsd::CallResult r = client.Call(call, args, timeout);
-    int code = Report(r);
-    if (code == 0 && (call == "execute_skill" || call == "track_velocity" || call == "navigate")) {
-      flsd::NavigationRecord record;
-      record.goal_x = args.goal[0];
-      record.goal_y = args.goal[1];
-      code = FollowTask(client, call, r.request_id, quiet, picture.empty() ? nullptr : &record);
-      if (!picture.empty()) {
-        std::optional<flsd::Map2D> map;
-        if (!args.map_yaml.empty()) map = flsd::Map2D::Parse(args.map_yaml, map_file);
-        flsd::WriteNavigationPicture(picture, map, record);
-        std::printf("picture: %s\n", picture.c_str());
+    int code = 0;
+    if (command == "skill" || command == "vel" || command == "goto") {
+      const flsd::Task task = command == "skill" ? client.ExecuteSkill(skill_id, duration, timeout)
+                              : command == "vel" ? client.TrackVelocity(velocity[0], velocity[1], velocity[2], duration, timeout)
+                                                 : client.Navigate(goal[0], goal[1], map_yaml, duration, timeout);
+      const char* call = flsd::dds::CallName(command == "skill" ? flsd::dds::Call::kExecuteSkill
+                                             : command == "vel" ? flsd::dds::Call::kTrackVelocity
+                                                                : flsd::dds::Call::kNavigate);
+      code = Report(task.reply());
+      if (code == 0) {
+        flsd::NavigationRecord record;
+        record.goal_x = goal[0];
+        record.goal_y = goal[1];
+        code = FollowTask(client, call, task, quiet, picture.empty() ? nullptr : &record);
+        if (!picture.empty()) {
+          std::optional<flsd::Map2D> map;
+          if (!map_yaml.empty()) map = flsd::Map2D::Parse(map_yaml, map_file);
+          flsd::WriteNavigationPicture(picture, map, record);
+          std::printf("picture: %s\n", picture.c_str());
+        }
       }
-    } else if (code == 0 && call == "stand") {
-      client.WaitForState([](const flsd::StateSample& s) { return s.msg.mode == flsd_msgs_MODE_STAND; }, timeout);
-      std::this_thread::sleep_for(std::chrono::seconds(1));  // hold control while it rises
+    } else if (command == "stand") {
+      code = Report(client.Stand(timeout));
+      if (code == 0) {
+        WaitForStand(client, timeout);
+        std::this_thread::sleep_for(std::chrono::seconds(1));  // hold control while it rises
+      }
+    } else {
+      code = Report(command == "stop" ? client.Stop(timeout) : client.Reset(timeout));
     }
     client.ReleaseControl(timeout);
     return code;
+  } catch (const flsd::CallError& e) {
+    return Report(e.reply());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "skillctl: %s\n", e.what());
     return kExitNoServer;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "comm/protocol.h"
+
 namespace flsd {
 namespace {
 
@@ -153,7 +155,7 @@ void Controller::Apply(const ControlRequest& request) {
       break;
     case ControlRequest::Kind::kSkill:
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by a new skill");
-      StartTask(request, "execute_skill");
+      StartTask(request, dds::CallName(dds::Call::kExecuteSkill));
       if (mode_ == flsd_msgs_MODE_DAMP) {  // a stop latched after the request side accepted it
         EndTask(flsd_msgs_TASK_SAFETY_STOP, "a safety stop latched before the skill could start");
         return;
@@ -176,7 +178,7 @@ void Controller::Apply(const ControlRequest& request) {
       const flsd_msgs_Mode mode = request.navigate ? flsd_msgs_MODE_NAVIGATE : flsd_msgs_MODE_VELOCITY;
       const bool walking = mode_ == flsd_msgs_MODE_VELOCITY || mode_ == flsd_msgs_MODE_NAVIGATE;
       if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by a new velocity task");
-      StartTask(request, request.navigate ? "navigate" : "track_velocity");
+      StartTask(request, dds::CallName(request.navigate ? dds::Call::kNavigate : dds::Call::kTrackVelocity));
       if (mode_ == flsd_msgs_MODE_DAMP) {
         EndTask(flsd_msgs_TASK_SAFETY_STOP, "a safety stop latched before the task could start");
         return;

@@ -10,10 +10,6 @@
 namespace flsd {
 namespace {
 
-constexpr const char* kKnownCalls =
-    "list_skills, status, execute_skill, track_velocity, navigate, stop, stand, damp, clear_stop, acquire_control, "
-    "renew_control, release_control, reset";
-
 ReplyContent Reply(flsd_msgs_ReplyStatus status, std::string message) {
   ReplyContent r;
   r.status = status;
@@ -146,35 +142,38 @@ std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& requ
 
 std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& request, const std::string& client_id,
                                                      double now, const DeferredReply& later) {
-  const std::string call = request.call != nullptr ? request.call : "";
-  if (call == "list_skills") {
+  const std::string name = request.call != nullptr ? request.call : "";
+  const std::optional<dds::Call> found = dds::FindCall(name);
+  if (!found) return Reply(flsd_msgs_STATUS_UNKNOWN_CALL, "unknown call '" + name + "'; known calls: " + dds::KnownCalls());
+  const dds::Call call = *found;
+  if (call == dds::Call::kListSkills) {
     ReplyContent r = Reply(flsd_msgs_STATUS_OK, std::to_string(controller_.library().num_skills()) + " skills");
     r.with_skills = true;
     return r;
   }
-  if (call == "status") return Reply(flsd_msgs_STATUS_OK, StatusText(controller_.status()));
-  if (call == "acquire_control") {
+  if (call == dds::Call::kStatus) return Reply(flsd_msgs_STATUS_OK, StatusText(controller_.status()));
+  if (call == dds::Call::kAcquireControl) {
     if (!lease_.Acquire(client_id, now)) {
       return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "control is held by " + lease_.holder());
     }
     return Reply(flsd_msgs_STATUS_OK, "control granted; it lapses after " + Seconds(lease_.timeout()) +
                                           " without a request from this client");
   }
-  if (call == "renew_control") {  // a heartbeat: never grants a lease that is not held
+  if (call == dds::Call::kRenewControl) {  // a heartbeat: never grants a lease that is not held
     if (!lease_.Renew(client_id, now)) {
       return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, lease_.held() ? "control is held by " + lease_.holder()
                                                                   : std::string("this client does not hold control"));
     }
     return Reply(flsd_msgs_STATUS_OK, "control renewed");
   }
-  if (call == "release_control") {
+  if (call == dds::Call::kReleaseControl) {
     if (!lease_.Release(client_id)) {
       return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "this client does not hold control");
     }
     StopTaskOf(client_id, flsd_msgs_TASK_CANCELLED, "control released");
     return Reply(flsd_msgs_STATUS_OK, "control released; the robot stands");
   }
-  if (call == "damp") {  // the emergency stop: anyone may press it
+  if (call == dds::Call::kDamp) {  // the emergency stop: anyone may press it
     ControlRequest damp;
     damp.kind = ControlRequest::Kind::kDamp;
     SetText(damp.reason, ("emergency stop from " + client_id).c_str());
@@ -184,26 +183,21 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     return Reply(flsd_msgs_STATUS_OK, "damping; latched until clear_stop (from this client, or from any after " +
                                           Seconds(config_.safety.stop_hold_time) + "), then stand");
   }
-  if (call == "clear_stop") return ClearStop(client_id);
-  static const char* const kMotionCalls[] = {"execute_skill", "track_velocity", "navigate", "stop", "stand", "reset"};
-  if (std::find_if(std::begin(kMotionCalls), std::end(kMotionCalls), [&](const char* c) { return call == c; }) !=
-      std::end(kMotionCalls)) {
-    if (!lease_.Renew(client_id, now)) {
-      return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL,
-                   lease_.held() ? "control is held by " + lease_.holder()
-                                 : std::string("no client holds control; call acquire_control first"));
-    }
-    return Motion(request, client_id, later);
+  if (call == dds::Call::kClearStop) return ClearStop(client_id);
+  FLSD_DEMAND(dds::Spec(call).needs_control);  // every other call moves the robot
+  if (!lease_.Renew(client_id, now)) {
+    return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL,
+                 lease_.held() ? "control is held by " + lease_.holder()
+                               : std::string("no client holds control; call acquire_control first"));
   }
-  return Reply(flsd_msgs_STATUS_UNKNOWN_CALL, "unknown call '" + call + "'; known calls: " + kKnownCalls);
+  return Motion(request, call, client_id, later);
 }
 
-std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& request, const std::string& client_id,
-                                                   const DeferredReply& later) {
-  const std::string call = request.call;
+std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& request, dds::Call call,
+                                                   const std::string& client_id, const DeferredReply& later) {
   const ControllerStatus status = controller_.status();
   ControlRequest control;
-  if (call == "execute_skill") {
+  if (call == dds::Call::kExecuteSkill) {
     const int k = request.skill;
     if (k < 0 || k >= controller_.library().num_skills()) {
       return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "skill " + std::to_string(k) + " is not in [0, " +
@@ -231,25 +225,27 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
     return Reply(flsd_msgs_STATUS_OK, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
                                           " accepted; progress is on the state topic");
   }
-  if (call == "track_velocity" || call == "navigate") return Velocity(request, client_id, later);
-  if (call == "reset" && !controller_.backend_can_reset()) {
+  if (call == dds::Call::kTrackVelocity || call == dds::Call::kNavigate) return Velocity(request, call, client_id, later);
+  if (call == dds::Call::kReset && !controller_.backend_can_reset()) {
     return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "this backend cannot reset the robot; stand it up by hand");
   }
-  if ((call == "stand" || call == "reset") && (status.faults & kFaultStop)) {
-    return Reply(flsd_msgs_STATUS_SAFETY_STOP, "cannot " + call + ": " + EmergencyStopText(status));
+  if ((call == dds::Call::kStand || call == dds::Call::kReset) && (status.faults & kFaultStop)) {
+    return Reply(flsd_msgs_STATUS_SAFETY_STOP, std::string("cannot ") + dds::CallName(call) + ": " + EmergencyStopText(status));
   }
-  if (call == "stand" && status.hazards != 0) {
+  if (call == dds::Call::kStand && status.hazards != 0) {
     // Standing clears a latched stop, but only once the robot is upright, in range and sensed.
     return Reply(flsd_msgs_STATUS_SAFETY_STOP, "cannot stand: " + HazardText(status));
   }
-  control.kind = call == "stand" ? ControlRequest::Kind::kStand
-                 : call == "stop" ? ControlRequest::Kind::kStop
-                                  : ControlRequest::Kind::kReset;
+  control.kind = call == dds::Call::kStand ? ControlRequest::Kind::kStand
+                 : call == dds::Call::kStop ? ControlRequest::Kind::kStop
+                                            : ControlRequest::Kind::kReset;
   SetText(control.reason, ("stopped by " + client_id).c_str());
   if (!Submit(control, client_id, request.header.request_id)) {
     return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
   }
-  return Reply(flsd_msgs_STATUS_OK, call == "stand" ? "standing" : call == "stop" ? "stopping; the robot stands" : "reset");
+  return Reply(flsd_msgs_STATUS_OK, call == dds::Call::kStand  ? "standing"
+                                    : call == dds::Call::kStop ? "stopping; the robot stands"
+                                                               : "reset");
 }
 
 std::string RequestHandler::MotionBlocked(const ControllerStatus& status) const {
@@ -300,11 +296,10 @@ ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
   return Reply(flsd_msgs_STATUS_OK, "emergency stop cleared; the robot stays damped until stand");
 }
 
-std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, const std::string& client_id,
-                                                     const DeferredReply& later) {
-  const std::string call = request.call;
+std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, dds::Call call,
+                                                     const std::string& client_id, const DeferredReply& later) {
   if (!controller_.has_selector()) {
-    return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, call + " is not available: the skill library " +
+    return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, std::string(dds::CallName(call)) + " is not available: the skill library " +
                                                      controller_.library().path() +
                                                      " has no skill selector (flsd export-selector adds one) and the "
                                                      "server's selector is '" + config_.selector + "'");
@@ -314,7 +309,7 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
   std::string accepted;
   std::optional<NavigationJob> job;
   std::string map_yaml;
-  if (call == "track_velocity") {
+  if (call == dds::Call::kTrackVelocity) {
     if (!AllFinite(request.velocity, 3)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "velocity must be finite");
     if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
       return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);

@@ -162,7 +162,7 @@ TEST_F(SkilldTest, OnlyTheControllerMovesTheRobotButAnyoneMayDamp) {
   const CallResult refused = observer->Call("stand");
   EXPECT_EQ(refused.status, flsd_msgs_STATUS_NOT_IN_CONTROL);
   EXPECT_THAT(refused.message, HasSubstr(owner->id()));
-  EXPECT_EQ(observer->AcquireControl().status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  EXPECT_EQ(observer->AcquireControl().status, ReplyStatus::kNotInControl);
 
   ASSERT_TRUE(owner->Call("stand").ok());
   ASSERT_TRUE(owner->WaitForState(Standing, 10s));

@@ -1,0 +1,38 @@
+#include "client/types.h"
+
+#include <cmath>
+
+#include "comm/protocol.h"
+
+namespace flsd {
+
+// The client's enums are the IDL's, value for value: converting is a cast.
+static_assert(static_cast<int>(ReplyStatus::kOk) == flsd_msgs_STATUS_OK);
+static_assert(static_cast<int>(ReplyStatus::kInternal) == flsd_msgs_STATUS_INTERNAL);
+static_assert(static_cast<int>(Mode::kIdle) == flsd_msgs_MODE_IDLE);
+static_assert(static_cast<int>(Mode::kDamp) == flsd_msgs_MODE_DAMP);
+static_assert(static_cast<int>(TaskState::kNone) == flsd_msgs_TASK_NONE);
+static_assert(static_cast<int>(TaskState::kTimeout) == flsd_msgs_TASK_TIMEOUT);
+
+const char* Name(ReplyStatus status) {
+  if (status == ReplyStatus::kNoReply) return "no reply";
+  return dds::StatusName(static_cast<flsd_msgs_ReplyStatus>(status));
+}
+
+const char* Name(Mode mode) { return dds::ModeName(static_cast<flsd_msgs_Mode>(mode)); }
+
+const char* Name(TaskState state) { return dds::TaskStateName(static_cast<flsd_msgs_TaskState>(state)); }
+
+std::string Reply::Describe() const {
+  if (!answered()) return "no reply from skilld";
+  std::string text = std::string(Name(status)) + ": " + message;
+  if (!safety_report.empty()) text += " [safety: " + safety_report + "]";
+  return text;
+}
+
+double RobotState::yaw() const {
+  const double w = orientation[0], x = orientation[1], y = orientation[2], z = orientation[3];
+  return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+}
+
+}  // namespace flsd

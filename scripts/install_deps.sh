@@ -9,7 +9,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtorch-dev libopenblas0-pthread
-  cyclonedds-dev cyclonedds-tools
+  cyclonedds-dev cyclonedds-tools openssl
   libompl-dev
   libopenmpi-dev openmpi-bin
 )

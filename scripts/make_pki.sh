@@ -21,8 +21,8 @@ observers="observer1"
 days=365
 while [ $# -gt 0 ]; do
   case $1 in
-    --operators) operators=${2:?}; shift 2 ;;
-    --observers) observers=${2:?}; shift 2 ;;
+    --operators) operators=${2?}; shift 2 ;;
+    --observers) observers=${2?}; shift 2 ;;
     --days) days=${2:?}; shift 2 ;;
     *) usage ;;
   esac

@@ -52,8 +52,10 @@ struct RawState {
 
 class RawClient {
  public:
-  RawClient(int domain_id, const std::string& partition)
-      : domain_(domain_id, partition),
+  // With `security`, creating it throws dds::Error if Cyclone refuses the credentials or the
+  // permissions do not allow these topics.
+  RawClient(int domain_id, const std::string& partition, const dds::SecurityConfig& security = {})
+      : domain_(domain_id, partition, security),
         requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos),
         replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
         states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos) {}
@@ -74,6 +76,9 @@ class RawClient {
     }
     return false;
   }
+
+  // This participant's authenticated identity: with DDS Security, the only client_id skilld accepts from it.
+  std::string identity() const { return domain_.identity(); }
 
   // A reply seen before to the same ids (a request sent again) is forgotten: Await waits for a new one.
   void Send(const RawRequest& r) {

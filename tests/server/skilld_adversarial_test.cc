@@ -11,8 +11,8 @@
 #include <climits>
 #include <cmath>
 #include <memory>
-#include <random>
 
+#include "tests/common/random_requests.h"
 #include "tests/common/raw_dds_client.h"
 #include "tests/common/skilld_fixture.h"
 
@@ -146,53 +146,8 @@ TEST_F(SkilldAdversarialTest, AHolderThatOnlyAsksForStatusKeepsTheLease) {
 // Random requests, well- and ill-typed, for three seconds: every one is answered with a status
 // the IDL defines (a reason with every refusal), and afterwards the server answers and damps.
 TEST_F(SkilldAdversarialTest, RandomRequestsAreAllAnsweredAndTheServerStillDamps) {
-  std::mt19937_64 rng(20261202);
-  const auto pick = [&](auto& options) { return options[rng() % std::size(options)]; };
-  const std::string calls[] = {"list_skills", "status", "execute_skill", "track_velocity", "navigate", "stop",
-                               "stand", "damp", "clear_stop", "acquire_control", "renew_control",
-                               "release_control", "reset", "", "fly", std::string(300, 'x'), "status\n"};
-  const std::string clients[] = {"f0", "f1", "f2", "f3", std::string(70, 'c')};
-  const double numbers[] = {0.0, -1.0, 0.3, 1.0, 2.0, 1e9, -1e300, NAN, INFINITY, -INFINITY, 1e-300};
-  const int64_t deadlines[] = {0, 0, 0, INT64_MIN, INT64_MAX, -1, 1};
-  std::string bomb = "polygons:\n  - &p [[0, 0], [1, 0], [1, 1], [0, 1]]\n";
-  for (int i = 0; i < 2000; ++i) bomb += "  - *p\n";
-  const std::string maps[] = {"", "bounds: [-5, 5, -5, 5]\n", "bounds: [-5, 5, -5, 5]\ncircles: [{center: [2, 0], radius: 0.5}]\n",
-                              "bounds: [1]", "{{{", std::string(4000, '[') + std::string(4000, ']'), bomb,
-                              "bounds: [-.nan, 1, 0, 1]", "circles: [{center: *x, radius: 1}]", "robot_radius: 1e400"};
-  std::map<std::string, uint64_t> last_id;
-  int answered = 0, sent = 0;
-  const auto until = std::chrono::steady_clock::now() + 3s;
-  while (std::chrono::steady_clock::now() < until) {
-    std::this_thread::sleep_for(2ms);  // within every client's rate limit: each request is answered
-    RawRequest r;
-    r.client_id = pick(clients);
-    // Mostly growing ids, sometimes a repeat or an older one.
-    uint64_t& last = last_id[r.client_id];
-    r.request_id = rng() % 10 == 0 ? last : last + 1 + rng() % 3;
-    last = std::max(last, r.request_id);
-    r.deadline_ns = pick(deadlines);
-    if (r.deadline_ns == 1) r.deadline_ns = dds_time() + 1'000'000'000;
-    r.call = pick(calls);
-    r.skill = static_cast<int32_t>(rng() % 40) - 5;
-    if (rng() % 10 == 0) r.skill = rng() % 2 ? INT32_MIN : INT32_MAX;
-    r.duration = rng() % 3 ? 0.2 + 0.1 * (rng() % 10) : pick(numbers);
-    for (double& v : r.velocity) v = pick(numbers);
-    for (double& g : r.goal) g = rng() % 2 ? 0.5 : pick(numbers);
-    r.map_yaml = pick(maps);
-    ++sent;
-    const std::optional<RawReply> reply = raw_->Call(r, 2s);
-    ASSERT_TRUE(reply) << "'" << r.call << "' from '" << r.client_id << "' (id " << r.request_id
-                       << ") was not answered\n" << server_->Log();
-    ++answered;
-    ASSERT_GE(reply->status, flsd_msgs_STATUS_OK);
-    ASSERT_LE(reply->status, flsd_msgs_STATUS_INTERNAL);
-    EXPECT_NE(reply->status, flsd_msgs_STATUS_INTERNAL) << r.call << ": " << reply->message;
-    if (reply->status != flsd_msgs_STATUS_OK) {
-      EXPECT_FALSE(reply->message.empty()) << r.call;
-    }
-  }
-  EXPECT_EQ(answered, sent);
-  EXPECT_GT(sent, 100);
+  testutil::RandomRequests requests(20261202, {"f0", "f1", "f2", "f3", std::string(70, 'c')});
+  EXPECT_GT(testutil::Fuzz(*raw_, requests, 3s, [&] { return server_->Log(); }), 100);
 
   EXPECT_EQ(Call("after", "status").status, flsd_msgs_STATUS_OK);
   ASSERT_EQ(Call("after", "damp").status, flsd_msgs_STATUS_OK);

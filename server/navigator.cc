@@ -187,9 +187,11 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
                     (job.goal - position).norm(), replans));
       return;
     }
-    // Plan again when the robot strays off the path, or into the robot's radius of an obstacle
-    // (at most once a second there: the new path leads out, and walking out takes time).
-    const bool inside = free_clearance < -config_.replan_inside && elapsed - last_replan > 1.0;
+    // Plan again when the robot strays off the path, or away from it into the robot's radius of
+    // an obstacle (at most once a second there: the new path leads out, and walking out takes
+    // time; a path that itself runs along the radius is no reason).
+    const bool inside = free_clearance < -config_.replan_inside &&
+                        command.distance_to_path > config_.follower.goal_tolerance && elapsed - last_replan > 1.0;
     if (command.off_path || inside) {
       ++replans;
       last_replan = elapsed;

@@ -128,6 +128,43 @@ Map2D Map2D::Load(const std::string& path) {
   return Parse(text.str(), file);
 }
 
+std::string Map2D::ToYaml() const {
+  std::ostringstream out;
+  out.precision(17);
+  const auto point = [&](const Eigen::Vector2d& p) { out << '[' << p.x() << ", " << p.y() << ']'; };
+  out << "bounds: [" << x_min << ", " << x_max << ", " << y_min << ", " << y_max << "]\n";
+  out << "robot_radius: " << robot_radius << "\n";
+  out << "circles:\n";
+  for (const Circle& c : circles) {
+    out << "  - {center: ";
+    point(c.center);
+    out << ", radius: " << c.radius << "}\n";
+  }
+  out << "polygons:\n";
+  for (const Polygon& polygon : polygons) {
+    out << "  - [";
+    for (size_t i = 0; i < polygon.size(); ++i) {
+      if (i > 0) out << ", ";
+      point(polygon[i]);
+    }
+    out << "]\n";
+  }
+  return out.str();
+}
+
+Map2D Map2D::Shifted(const Eigen::Vector2d& origin) const {
+  Map2D out = *this;
+  out.x_min -= origin.x();
+  out.x_max -= origin.x();
+  out.y_min -= origin.y();
+  out.y_max -= origin.y();
+  for (Circle& c : out.circles) c.center -= origin;
+  for (Polygon& polygon : out.polygons) {
+    for (Eigen::Vector2d& p : polygon) p -= origin;
+  }
+  return out;
+}
+
 double Map2D::Clearance(const Eigen::Vector2d& p) const {
   double clearance = std::min({p.x() - x_min, x_max - p.x(), p.y() - y_min, y_max - p.y()});
   for (const Circle& c : circles) clearance = std::min(clearance, (p - c.center).norm() - c.radius);

@@ -38,6 +38,11 @@ struct Map2D {
   // Throws InputError naming the key and what was expected.
   static Map2D Parse(const std::string& text, const std::string& source);
   static Map2D Load(const std::string& path);
+  // The YAML that Parse reads back to this map (to the last of 17 significant digits).
+  std::string ToYaml() const;
+  // The same map in a frame whose origin is at `origin` of this one: a map to send with a
+  // navigate request for a robot at `origin` that the server believes at (0, 0).
+  Map2D Shifted(const Eigen::Vector2d& origin) const;
 
   // Distance from p to the nearest obstacle or bound edge, before inflation; negative inside.
   double Clearance(const Eigen::Vector2d& p) const;

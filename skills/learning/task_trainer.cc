@@ -152,6 +152,7 @@ void TaskTrainer::JointActions(const torch::Tensor& policy_action) {
 void TaskTrainer::Collect(TaskIterationStats& stats) {
   torch::NoGradGuard no_grad;
   long ended = 0, length_sum = 0, falls = 0, switches = 0;
+  long zero_rewards = 0;  // steps the clip at zero left without any gradient
   double return_sum = 0.0, reward_sum = 0.0, lin_sum = 0.0, ang_sum = 0.0, lin_err2 = 0.0, ang_err2 = 0.0;
   for (int t = 0; t < steps_; ++t) {
     const torch::Tensor obs = Observations(/*update_normalizer=*/true);
@@ -194,6 +195,7 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
         const float reward = task_.rewards()[i];
         if (!ended_[i]) rewards[i] += reward;
         reward_sum += reward;
+        zero_rewards += reward == 0.0f;
         lin_sum += terms.tracking_lin_vel;
         ang_sum += terms.tracking_ang_vel;
         // The tracking terms are exp(-e^2 / sigma): e^2 is recovered from them exactly.
@@ -225,6 +227,7 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
   last_values_ = policy_->Value(Observations(/*update_normalizer=*/false));
   const double samples = static_cast<double>(steps_) * num_envs_ * config_.decision_interval;
   stats.mean_reward = reward_sum / samples;
+  stats.zero_reward_share = zero_rewards / samples;
   stats.tracking_lin_vel = lin_sum / samples;
   stats.tracking_ang_vel = ang_sum / samples;
   stats.lin_vel_error = std::sqrt(lin_err2 / samples);
@@ -352,26 +355,27 @@ TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skill
 const char* const kTaskProgressHeader =
     "iteration,env_steps,steps_per_s,mean_reward,mean_episode_return,episodes_ended,mean_episode_length,"
     "fall_fraction,tracking_lin_vel,tracking_ang_vel,lin_vel_error,ang_vel_error,entropy_or_std,surrogate_loss,"
-    "value_loss,kl,learning_rate,seconds_collect,seconds_ppo,seconds_total,switches_per_s";
+    "value_loss,kl,learning_rate,seconds_collect,seconds_ppo,seconds_total,switches_per_s,zero_reward_share";
 
 std::string TaskProgressRow(const TaskIterationStats& s) {
   char row[768];
   std::snprintf(row, sizeof(row),
-                "%d,%ld,%.1f,%.6f,%.4f,%d,%.2f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.3g,%.4f,%.4f,%.4f,%.3f",
+                "%d,%ld,%.1f,%.6f,%.4f,%d,%.2f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.3g,%.4f,%.4f,%.4f,%.3f,%.4f",
                 s.iteration, s.env_steps, s.steps_per_s, s.mean_reward, s.mean_episode_return, s.episodes_ended,
                 s.mean_episode_length, s.fall_fraction, s.tracking_lin_vel, s.tracking_ang_vel, s.lin_vel_error,
                 s.ang_vel_error, s.entropy_or_std, s.ppo.surrogate_loss, s.ppo.value_loss, s.ppo.kl,
-                s.ppo.learning_rate, s.seconds_collect, s.seconds_ppo, s.seconds_total, s.switches_per_s);
+                s.ppo.learning_rate, s.seconds_collect, s.seconds_ppo, s.seconds_total, s.switches_per_s,
+                s.zero_reward_share);
   return row;
 }
 
 std::string TaskProgressLine(const TaskIterationStats& s, int total_iterations, double eta_seconds) {
   char line[512];
   std::snprintf(line, sizeof(line),
-                "it %d/%d | %.0f steps/s | ETA %s | reward/step %.4f | ep len %.0f (falls %.0f%%) | "
+                "it %d/%d | %.0f steps/s | ETA %s | reward/step %.4f (zero %.0f%%) | ep len %.0f (falls %.0f%%) | "
                 "v err %.3f m/s | w err %.3f rad/s | switches %.1f/s | entropy/std %.3f | lr %.1e",
                 s.iteration, total_iterations, s.steps_per_s, Duration(eta_seconds).c_str(), s.mean_reward,
-                s.mean_episode_length, 100.0 * s.fall_fraction, s.lin_vel_error, s.ang_vel_error,
+                100.0 * s.zero_reward_share, s.mean_episode_length, 100.0 * s.fall_fraction, s.lin_vel_error, s.ang_vel_error,
                 s.switches_per_s, s.entropy_or_std, s.ppo.learning_rate);
   return line;
 }

@@ -78,6 +78,7 @@ struct TaskIterationStats {
   long env_steps = 0;
   double steps_per_s = 0.0;
   double mean_reward = 0.0;           // per control step, dt-scaled (legged_gym's units)
+  double zero_reward_share = 0.0;     // of control steps paid exactly 0 (clipped): no gradient
   double mean_episode_return = 0.0;   // of the episodes that ended (0 if none did)
   int episodes_ended = 0;
   double mean_episode_length = 0.0;

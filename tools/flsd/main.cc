@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "bench/hw_bench.h"
+#include "bench/nav_bench.h"
 #include "bench/plan_bench.h"
 #include "bench/policy_bench.h"
 #include "bench/sim_bench.h"
@@ -183,6 +184,15 @@ int main(int argc, char** argv) {
   plan_bench_cmd->add_option("--trials", plan_bench.trials, "Plans per map")->check(CLI::Range(1, 10000));
   plan_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
 
+  flsd::NavBenchOptions nav_bench;
+  CLI::App* nav_bench_cmd =
+      bench_cmd->add_subcommand("nav", "Navigation through a real skilld on every shipped map, from fresh resets");
+  nav_bench_cmd->add_option("--library", nav_bench.library, "Skill library skilld serves");
+  nav_bench_cmd->add_option("--goals", nav_bench.goals, "Start and goal pairs per map")->check(CLI::Range(1, 1000));
+  nav_bench_cmd->add_option("--seed", nav_bench.seed, "Seed of the pairs");
+  nav_bench_cmd->add_option("--domain", nav_bench.domain_id, "DDS domain of the skilld it starts")->check(CLI::Range(0, 232));
+  nav_bench_cmd->add_flag("--json", json, "Print one JSON object (the default output)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*demo_cmd) return flsd::RunSimDemo(demo);
@@ -248,6 +258,10 @@ int main(int argc, char** argv) {
     }
     if (*plan_bench_cmd) {
       std::printf("%s\n", flsd::RunPlanBenchmark(plan_bench).dump(2).c_str());
+      return 0;
+    }
+    if (*nav_bench_cmd) {
+      std::printf("%s\n", flsd::RunNavBenchmark(nav_bench).dump(2).c_str());
       return 0;
     }
     if (*hw_bench_cmd) {

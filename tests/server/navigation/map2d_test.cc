@@ -39,6 +39,24 @@ TEST(Map2D, ShippedMapsLoad) {
   }
 }
 
+// ToYaml writes what Parse reads back exactly, and a shifted map has every clearance of the
+// original at the shifted point: what a client sends for a robot the server believes at (0, 0).
+TEST(Map2D, RoundTripsThroughYamlAndShiftsItsOrigin) {
+  for (const char* name : {"open", "wall_gap", "enclosed", "demo"}) {
+    const Map2D map = Map2D::Load(std::string("configs/maps/") + name + ".yaml");
+    const Map2D back = Map2D::Parse(map.ToYaml(), name);
+    EXPECT_EQ(back.ToYaml(), map.ToYaml()) << name;
+    EXPECT_EQ(back.circles.size(), map.circles.size());
+    EXPECT_EQ(back.polygons.size(), map.polygons.size());
+    const Eigen::Vector2d origin(1.0 / 3.0, -2.7);
+    const Map2D shifted = Map2D::Parse(map.Shifted(origin).ToYaml(), name);
+    EXPECT_DOUBLE_EQ(shifted.x_min, map.x_min - origin.x());
+    for (const Eigen::Vector2d p : {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(1.5, 0.2), Eigen::Vector2d(-4.1, 3.3)}) {
+      EXPECT_NEAR(shifted.Clearance(p - origin), map.Clearance(p), 1e-12) << name << " at " << p.transpose();
+    }
+  }
+}
+
 // A map is bounded whatever a client sends: its size, its points (YAML aliases counted each time
 // they are used: a few bytes of `*p` can stand for thousands of points) and its extent.
 TEST(Map2D, MapsAreBoundedInSizePointsAndExtent) {

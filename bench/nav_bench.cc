@@ -1,0 +1,219 @@
+#include "bench/nav_bench.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+#include <thread>
+#include <vector>
+
+#include "bench/machine.h"
+#include "bench/stats.h"
+#include "client/client.h"
+#include "core/check.h"
+#include "core/paths.h"
+#include "core/rng.h"
+#include "server/navigation/map2d.h"
+#include "server/navigation/path_planner.h"
+
+extern char** environ;
+
+namespace flsd {
+namespace {
+
+namespace fs = std::filesystem;
+
+// skilld with the simulated A1 for the length of the benchmark, its log in a file.
+class SkilldProcess {
+ public:
+  SkilldProcess(const std::string& library, int domain_id, const std::string& partition, const std::string& log) {
+    const std::string skilld = (fs::read_symlink("/proc/self/exe").parent_path() / "skilld").string();
+    const std::string domain = std::to_string(domain_id);
+    const char* argv[] = {skilld.c_str(), "--backend", "sim", "--library", library.c_str(), "--domain", domain.c_str(),
+                          "--partition", partition.c_str(), nullptr};
+    posix_spawn_file_actions_t output;
+    posix_spawn_file_actions_init(&output);
+    posix_spawn_file_actions_addopen(&output, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&output, 1, 2);
+    const int spawned = posix_spawn(&pid_, skilld.c_str(), &output, nullptr, const_cast<char**>(argv), environ);
+    posix_spawn_file_actions_destroy(&output);
+    if (spawned != 0) throw InputError("cannot start " + skilld + ": build it first (make build)");
+  }
+  ~SkilldProcess() {
+    kill(pid_, SIGINT);  // skilld damps the robot and leaves
+    for (int i = 0; i < 100 && waitpid(pid_, nullptr, WNOHANG) == 0; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (kill(pid_, 0) == 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  SkilldProcess(const SkilldProcess&) = delete;
+  SkilldProcess& operator=(const SkilldProcess&) = delete;
+
+ private:
+  pid_t pid_ = 0;
+};
+
+struct Goal {
+  Eigen::Vector2d start, goal;
+  double planned_length = 0.0;  // m, by the planner here, as a check that a path exists
+};
+
+// `count` start and goal pairs at least `min_distance` apart, both with 0.2 m of room beyond the
+// robot's radius, and a path between them.
+std::vector<Goal> DrawGoals(const Map2D& map, int count, double min_distance, Rng& rng) {
+  std::vector<Goal> goals;
+  const auto draw = [&] {
+    return Eigen::Vector2d(Uniform(rng, map.x_min, map.x_max), Uniform(rng, map.y_min, map.y_max));
+  };
+  for (int attempt = 0; attempt < 2000 && static_cast<int>(goals.size()) < count; ++attempt) {
+    const Eigen::Vector2d start = draw(), goal = draw();
+    if ((goal - start).norm() < min_distance) continue;
+    if (map.Clearance(start) < map.robot_radius + 0.2 || map.Clearance(goal) < map.robot_radius + 0.2) continue;
+    PlannerOptions options;
+    options.time_limit = 0.2;
+    const PlannedPath path = PlanPath(map, start, goal, options);
+    if (path.status == PlannedPath::Status::kFound) goals.push_back({start, goal, path.length});
+  }
+  return goals;
+}
+
+double Mean(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return values.empty() ? 0.0 : sum / values.size();
+}
+
+double PathLength(const std::vector<double>& flat) {
+  double length = 0.0;
+  for (size_t i = 2; i + 1 < flat.size(); i += 2) length += std::hypot(flat[i] - flat[i - 2], flat[i + 1] - flat[i - 1]);
+  return length;
+}
+
+int Replans(const std::string& message) {
+  std::smatch match;
+  static const std::regex kReplans("([0-9]+) replans");
+  return std::regex_search(message, match, kReplans) ? std::stoi(match[1]) : 0;
+}
+
+// One navigation from a fresh reset; the robot is stopped afterwards.
+nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, double top_speed) {
+  const Reply reset = client.Reset();
+  if (!reset.ok()) throw InputError("reset: " + reset.Describe());
+  const Eigen::Vector2d local_goal = goal.goal - goal.start;
+  const double duration = std::min(300.0, 20.0 + 4.0 * goal.planned_length / top_speed);
+  const Task task = client.Navigate(local_goal.x(), local_goal.y(), map.Shifted(goal.start).ToYaml(), duration);
+  nlohmann::json result = {{"start", {goal.start.x(), goal.start.y()}}, {"goal", {goal.goal.x(), goal.goal.y()}}};
+  if (!task.accepted()) {
+    result["outcome"] = "refused";
+    result["message"] = task.reply().Describe();
+    return result;
+  }
+  // The closest approach from the state topic at its full rate, in the map's own frame.
+  double closest = HUGE_VAL, planned_length = 0.0;
+  uint64_t tick = 0;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration + 15.0);
+  while (!task.Done() && std::chrono::steady_clock::now() < give_up) {
+    const std::optional<RobotState> state = client.NextState(tick, std::chrono::milliseconds(500));
+    if (!state) continue;
+    tick = state->tick;
+    const Eigen::Vector2d p = goal.start + Eigen::Vector2d(state->position[0], state->position[1]);
+    if (state->task.request_id == task.request_id() && state->mode == Mode::kNavigate) {
+      closest = std::min(closest, map.Clearance(p));
+      if (planned_length == 0.0) planned_length = PathLength(state->task.path);
+    }
+  }
+  const TaskReport report = task.Progress();
+  client.Stop();
+  result["outcome"] = Name(report.state);
+  result["message"] = report.message;
+  result["seconds"] = report.elapsed;
+  result["planned_length"] = planned_length;
+  result["time_over_ideal"] = planned_length > 0.0 ? report.elapsed / (planned_length / top_speed) : 0.0;
+  result["replans"] = Replans(report.message);
+  if (std::isfinite(closest)) result["closest_approach"] = closest;
+  return result;
+}
+
+}  // namespace
+
+nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
+  // Everything stays on this machine unless the user has configured Cyclone otherwise.
+  const std::string loopback = "file://" + ResolveDataPath("configs/cyclonedds_loopback.xml");
+  setenv("CYCLONEDDS_URI", loopback.c_str(), /*overwrite=*/0);
+  const std::string partition = "navbench-" + std::to_string(getpid());
+  const std::string log = (fs::temp_directory_path() / (partition + ".log")).string();
+  SkilldProcess skilld(ResolveDataPath(options.library), options.domain_id, partition, log);
+
+  Client::Options client_options;
+  client_options.domain_id = options.domain_id;
+  client_options.partition = partition;
+  Client client(client_options);
+  if (!client.WaitForServer(std::chrono::seconds(60))) throw InputError("skilld did not answer within 60 s (its log: " + log + ")");
+  const Reply control = client.AcquireControl();
+  if (!control.ok()) throw InputError("acquire_control: " + control.Describe());
+  // The ideal speed: the fastest skill the server serves (the selector's choices).
+  double top_speed = 0.0;
+  for (const SkillInfo& s : client.ListSkills()) {
+    if (s.survival_steps >= 500) top_speed = std::max(top_speed, std::hypot(s.linear_velocity[0], s.linear_velocity[1]));
+  }
+  if (!(top_speed > 0.0)) throw InputError(options.library + ": no skill that survives 500 steps moves");
+
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(ResolveDataPath("configs/maps"))) {
+    if (e.path().extension() == ".yaml") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  nlohmann::json maps = nlohmann::json::array();
+  int all = 0, all_succeeded = 0;
+  Rng rng(options.seed);
+  for (const fs::path& file : files) {
+    const Map2D map = Map2D::Load(file.string());
+    const std::vector<Goal> goals = DrawGoals(map, options.goals, options.min_distance, rng);
+    nlohmann::json runs = nlohmann::json::array();
+    std::vector<double> ratios, replans;
+    double closest = HUGE_VAL;
+    int succeeded = 0;
+    for (const Goal& goal : goals) {
+      nlohmann::json run = Navigate(client, map, goal, top_speed);
+      if (run["outcome"] == "succeeded") {
+        ++succeeded;
+        ratios.push_back(run["time_over_ideal"]);
+      }
+      if (run.contains("replans")) replans.push_back(run["replans"]);
+      if (run.contains("closest_approach")) closest = std::min(closest, run["closest_approach"].get<double>());
+      runs.push_back(std::move(run));
+    }
+    all += static_cast<int>(goals.size());
+    all_succeeded += succeeded;
+    nlohmann::json entry = {{"map", file.stem().string()},
+                            {"goals", goals.size()},
+                            {"success_rate", goals.empty() ? 0.0 : static_cast<double>(succeeded) / goals.size()},
+                            {"time_over_ideal_p50", ratios.empty() ? 0.0 : Quantile(ratios, 0.5)},
+                            {"time_over_ideal_max", ratios.empty() ? 0.0 : Quantile(ratios, 1.0)},
+                            {"replans_mean", Mean(replans)},
+                            {"closest_approach_min", std::isfinite(closest) ? nlohmann::json(closest) : nlohmann::json()},
+                            {"runs", runs}};
+    if (goals.empty()) entry["note"] = "no start and goal pair with a path between them";
+    maps.push_back(std::move(entry));
+  }
+  return {{"benchmark", "flsd bench nav"},
+          {"library", options.library},
+          {"top_speed", top_speed},
+          {"ideal", "planned path length / top_speed (the fastest skill surviving 500 steps)"},
+          {"success_rate", all == 0 ? 0.0 : static_cast<double>(all_succeeded) / all},
+          {"maps", maps},
+          {"machine", MachineDescription()}};
+}
+
+}  // namespace flsd

@@ -138,6 +138,12 @@ std::vector<double> CommandScale() {
   return {kMotionObsLayout[0].scale, kMotionObsLayout[0].scale, kMotionObsLayout[1].scale};
 }
 
+std::vector<double> JointLimits(double (*limit)(int)) {
+  std::vector<double> out;
+  for (int j = 0; j < a1::kNumJoints; ++j) out.push_back(limit(j));
+  return out;
+}
+
 std::vector<double> DefaultPose() { return {a1::kDefaultJointPos.begin(), a1::kDefaultJointPos.end()}; }
 
 }  // namespace
@@ -216,6 +222,8 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   m.ExpectNumber("/control/decimation", a1::kDecimation);
   m.ExpectNumber("/limits/torque", a1::kTorqueLimit);
   m.ExpectNumber("/limits/joint_velocity", a1::kJointVelocityLimit);
+  m.ExpectNumbers("/limits/joint_min", JointLimits(a1::JointMin));
+  m.ExpectNumbers("/limits/joint_max", JointLimits(a1::JointMax));
   m.ExpectString("/policy/activation", "elu");
 
   lib.policy_ = ReadNetwork(file, m, "/policy", "policy.", "normalizer.", lib.policy_obs_size_, kActionSize,

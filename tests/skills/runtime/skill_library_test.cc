@@ -185,6 +185,8 @@ TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {
               HasSubstr("/control/control_dt"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["format_version"] = 2; }), HasSubstr("/format_version is 2"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m.erase("limits"); }), HasSubstr("/limits/torque is missing"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["limits"]["joint_max"][2] = -0.5; }),
+              HasSubstr("/limits/joint_max/2 is -0.5 but this robot uses -0.916298"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["robot"] = "go1"; }), HasSubstr("/robot is 'go1'"));
   // A library that claims more skills than its first layer takes.
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["num_skills"] = kSkills + 1; }), HasSubstr("skill_onehot"));

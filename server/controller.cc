@@ -251,7 +251,8 @@ bool Controller::StopApplies(const ControlRequest& stop) const {
   const bool running = task_.state == flsd_msgs_TASK_RUNNING;
   switch (stop.scope) {
     case ControlRequest::Scope::kAny: return true;
-    case ControlRequest::Scope::kClient: return running && task_.client_id == stop.client_id;
+    case ControlRequest::Scope::kClient:
+      return running && task_.client_id == stop.client_id && (stop.request_id == 0 || task_.request_id < stop.request_id);
     case ControlRequest::Scope::kTask:
       return running && task_.client_id == stop.client_id && task_.request_id == stop.request_id;
   }

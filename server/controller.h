@@ -73,6 +73,8 @@ struct ControlRequest {
   flsd_msgs_TaskState stop_state = flsd_msgs_TASK_CANCELLED;  // kStop: how the current task ends
   // kStop: what it ends. A stop on behalf of one client (its lease lapsed, it released control)
   // must not end the task of the client that took control after it.
+  // kClient with a request_id: only a task from before it (a release must not end the task the same
+  // client starts next, which the queue applies first when both come within one tick).
   enum class Scope { kAny, kClient, kTask };  // whatever runs; client_id's task; request_id's task
   Scope scope = Scope::kAny;
   double pressed_at = 0.0;  // kClearStop: the press it clears (ControllerStatus.stop_time); a later one stays

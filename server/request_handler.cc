@@ -86,13 +86,15 @@ void RequestHandler::Poll(double now) {
   }
 }
 
-void RequestHandler::StopTaskOf(const std::string& client_id, flsd_msgs_TaskState state, const std::string& reason) {
+void RequestHandler::StopTaskOf(const std::string& client_id, flsd_msgs_TaskState state, const std::string& reason,
+                                uint64_t before) {
   if (navigator_ != nullptr) navigator_->Cancel();
   ControlRequest stop;
   stop.kind = ControlRequest::Kind::kStop;
   stop.stop_state = state;
   // Only this client's task: not one its successor may already have started in the same tick.
   stop.scope = ControlRequest::Scope::kClient;
+  stop.request_id = before;
   SetText(stop.client_id, client_id.c_str());
   SetText(stop.reason, reason.c_str());
   controller_.SubmitUrgent(stop);
@@ -170,7 +172,7 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     if (!lease_.Release(client_id)) {
       return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "this client does not hold control");
     }
-    StopTaskOf(client_id, flsd_msgs_TASK_CANCELLED, "control released");
+    StopTaskOf(client_id, flsd_msgs_TASK_CANCELLED, "control released", request.header.request_id);
     return Reply(flsd_msgs_STATUS_OK, "control released; the robot stands");
   }
   if (call == dds::Call::kDamp) {  // the emergency stop: anyone may press it

@@ -311,6 +311,29 @@ TEST_F(ControllerTest, UpdatesAndStopsForAnotherTaskAreIgnored) {
   EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
 }
 
+// A client releasing control and starting its next task within one tick: the queue applies the
+// task before the release's urgent stop, which must end only the tasks the release came after.
+TEST_F(ControllerTest, AReleasesStopSparesTheTaskTheSameClientStartsAfterIt) {
+  StandUp();
+  ControlRequest release = Request(Kind::kStop);
+  release.scope = ControlRequest::Scope::kClient;
+  release.request_id = 43;
+  SetText(release.reason, "control released");
+  ControlRequest next = Request(Kind::kSkill, 2, 5.0);
+  next.request_id = 44;
+  controller_.SubmitUrgent(release);
+  ASSERT_TRUE(controller_.Submit(next));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().task.request_id, 44u);
+  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_RUNNING);
+
+  release.request_id = 45;  // a release after it ends it
+  controller_.SubmitUrgent(release);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_CANCELLED);
+  EXPECT_STREQ(controller_.status().task.message.data(), "control released");
+}
+
 // The sim backend, remembering the last command the controller sent.
 class RecordingBackend : public Backend {
  public:

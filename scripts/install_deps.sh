@@ -12,6 +12,7 @@ packages=(
   cyclonedds-dev cyclonedds-tools openssl
   libompl-dev
   libopenmpi-dev openmpi-bin
+  pybind11-dev python3-dev python3-pytest
 )
 
 missing=()

@@ -1,9 +1,14 @@
 #include "comm/security.h"
 
+#include <openssl/bio.h>
+#include <openssl/pem.h>
+#include <openssl/sha.h>
+#include <openssl/x509.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "comm/dds.h"
@@ -93,6 +98,35 @@ std::string ParticipantIdentity(const dds_guid_t& participant) {
   for (int i = 0; i < 12; ++i) std::snprintf(text + 2 * i + (i >= 6), 3, "%02x", participant.v[i]);
   text[12] = '-';
   return text;
+}
+
+CertificateSubject ReadCertificateSubject(const std::string& pem_path) {
+  std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(pem_path.c_str(), "r"), &std::fclose);
+  if (!file) throw Error("cannot read certificate " + pem_path);
+  std::unique_ptr<X509, void (*)(X509*)> cert(PEM_read_X509(file.get(), nullptr, nullptr, nullptr), &X509_free);
+  if (!cert) throw Error(pem_path + " holds no PEM certificate");
+  const X509_NAME* subject = X509_get_subject_name(cert.get());
+  unsigned char* der = nullptr;
+  const int size = i2d_X509_NAME(subject, &der);
+  if (size <= 0) throw Error(pem_path + ": cannot encode the certificate's subject");
+  unsigned char hash[SHA256_DIGEST_LENGTH];
+  SHA256(der, static_cast<size_t>(size), hash);
+  OPENSSL_free(der);
+  // As the authentication plugin adjusts a participant's GUID: a flag bit, then 47 bits of the hash.
+  dds_guid_t prefix{};
+  unsigned char carry = 0x80;
+  for (int i = 0; i < 6; ++i) {
+    prefix.v[i] = static_cast<unsigned char>(carry | hash[i] >> 1);
+    carry = static_cast<unsigned char>(hash[i] << 7);
+  }
+  CertificateSubject result;
+  result.fingerprint = ParticipantIdentity(prefix).substr(0, 12);
+  std::unique_ptr<BIO, int (*)(BIO*)> text(BIO_new(BIO_s_mem()), &BIO_free);
+  X509_NAME_print_ex(text.get(), subject, 0, XN_FLAG_RFC2253);
+  char* data = nullptr;
+  const long length = BIO_get_mem_data(text.get(), &data);
+  result.name.assign(data, static_cast<size_t>(length));
+  return result;
 }
 
 std::string WriterIdentity(dds_entity_t reader, dds_instance_handle_t publication) {

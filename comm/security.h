@@ -51,6 +51,15 @@ std::string SecurityXml(const SecurityConfig& config);
 // "<subject fingerprint>-<participant>": 24 hex digits of a participant GUID's prefix.
 std::string ParticipantIdentity(const dds_guid_t& participant);
 
+// A certificate's subject, as identities carry it: `fingerprint` is what WriterIdentity gives
+// every participant of this certificate as its first 12 hex digits (the first 47 bits of the
+// SHA-256 of the DER subject, behind a flag bit); `name` is the subject in RFC 2253 form. Throws
+// Error naming the file if it holds no PEM certificate.
+struct CertificateSubject {
+  std::string fingerprint, name;
+};
+CertificateSubject ReadCertificateSubject(const std::string& pem_path);
+
 // The identity of the participant whose writer `publication` (a sample's publication_handle)
 // matched `reader`; empty if the writer is no longer matched.
 std::string WriterIdentity(dds_entity_t reader, dds_instance_handle_t publication);

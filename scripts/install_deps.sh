@@ -9,7 +9,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtorch-dev libopenblas0-pthread
-  cyclonedds-dev cyclonedds-tools openssl
+  cyclonedds-dev cyclonedds-tools openssl libssl-dev
   libompl-dev
   libopenmpi-dev openmpi-bin
   pybind11-dev python3-dev python3-pytest

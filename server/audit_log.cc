@@ -7,13 +7,29 @@
 #include <cerrno>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 
+#include "comm/dds.h"
 #include "comm/protocol.h"
 #include "core/check.h"
 
 namespace flsd {
 
-AuditLog::AuditLog(const std::string& path) {
+AuditLog::AuditLog(const std::string& path, const std::string& certificates) {
+  if (!certificates.empty()) {
+    std::error_code error;
+    for (std::filesystem::recursive_directory_iterator it(certificates, error), end; !error && it != end;
+         it.increment(error)) {
+      if (it->path().filename() != "cert.pem") continue;
+      try {
+        dds::CertificateSubject subject = dds::ReadCertificateSubject(it->path().string());
+        subjects_[subject.fingerprint] = std::move(subject.name);
+      } catch (const dds::Error& e) {
+        throw InputError(std::string("audit_certificates: ") + e.what());
+      }
+    }
+    if (error) throw InputError("audit_certificates: cannot read the folder " + certificates + ": " + error.message());
+  }
   if (path.empty()) return;
   fd_ = open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0600);
   if (fd_ < 0) throw InputError("audit_log: cannot open " + path + " for appending: " + std::strerror(errno));
@@ -34,8 +50,15 @@ bool AuditLog::Audited(const char* call) {
   return false;
 }
 
-std::string AuditLog::Describe(const std::string& sender, const flsd_msgs_Request& r) {
+std::string AuditLog::Describe(const std::string& identity, const flsd_msgs_Request& r) const {
   const std::string call = r.call != nullptr ? r.call : "";
+  const std::string client_id = r.header.client_id != nullptr ? r.header.client_id : "";
+  std::string sender = "client_id " + client_id + " (unauthenticated)";
+  if (!identity.empty()) {
+    const auto subject = subjects_.find(identity.substr(0, 12));
+    sender = "identity " + identity + (subject != subjects_.end() ? " [" + subject->second + "]" : "") +
+             " (client_id " + client_id + ")";
+  }
   char args[160] = "";
   if (call == "execute_skill") {
     std::snprintf(args, sizeof args, " skill %d duration %.2f s", r.skill, r.duration);

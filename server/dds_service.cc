@@ -45,7 +45,7 @@ DdsService::DdsService(const ServerConfig& config, Controller& controller, const
       states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
       navigator_(controller.has_selector() ? std::make_unique<Navigator>(controller, config.navigation) : nullptr),
       handler_(controller, config, navigator_.get()),
-      audit_(config.audit_log),
+      audit_(config.audit_log, config.audit_certificates),
       skills_(MakeSkillInfos(controller.library())),
       listener_(&DdsService::OnRequests, this),
       requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos, &listener_) {}
@@ -98,12 +98,11 @@ void DdsService::ServeRequests() {
     const uint64_t request_id = request.header.request_id;
     const int64_t deadline_ns = request.header.deadline_ns;
     const std::string& identity = domain_.secured() ? IdentityOf(info.publication_handle) : client_id;
-    std::string audited;  // empty: not a call the audit log records
-    if (AuditLog::Audited(request.call)) {
-      audited = AuditLog::Describe(domain_.secured() ? "identity " + identity + " (client_id " + client_id + ")"
-                                                     : "client_id " + client_id + " (unauthenticated)",
-                                   request);
-    }
+    // Empty: not a call the audit log records.
+    const std::string audited =
+        AuditLog::Audited(request.call)
+            ? audit_.Describe(!domain_.secured() ? "" : identity.empty() ? "unmatched" : identity, request)
+            : "";
     try {
       const DeferredReply later = [this, client_id, request_id, deadline_ns, audited](const ReplyContent& content) {
         SendReply(client_id, request_id, deadline_ns, content);

@@ -124,6 +124,9 @@ struct ServerConfig {
   // Motion calls, accepted and refused, with who sent them, are logged; with a path, also
   // appended to this file (created with mode 0600).
   std::string audit_log;
+  // A folder whose cert.pem files (at any depth: a make_pki.sh folder) give the audit log the
+  // subject names of DDS Security identities; empty: identities only.
+  std::string audit_certificates;
   template <class V>
   void Visit(V& v) {
     v("domain_id", domain_id, Bounds<int>{0, 232});
@@ -145,6 +148,7 @@ struct ServerConfig {
     v("hw", hw);
     v("security", security);
     v("audit_log", audit_log);
+    v("audit_certificates", audit_certificates);
   }
 };
 

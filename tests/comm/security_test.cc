@@ -3,6 +3,8 @@
 
 #include "comm/security.h"
 
+#include "comm/dds.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -70,6 +72,17 @@ TEST_F(SecurityConfigTest, PropertiesAndXmlNameTheSameFilesAndPlugins) {
   EXPECT_THAT(xml, HasSubstr("<Permissions>file:" + config_.permissions + "</Permissions>"));
   EXPECT_THAT(xml, HasSubstr("path=\"dds_security_ac\" initFunction=\"init_access_control\""));
   EXPECT_EQ(SecurityXml(SecurityConfig{}), "");
+}
+
+TEST(CertificateSubjectTest, AFileWithoutACertificateIsNamed) {
+  const testutil::TempFile key(".pem", "-----BEGIN PRIVATE KEY-----\nAAAA\n-----END PRIVATE KEY-----\n");
+  try {
+    ReadCertificateSubject(key.path());
+    ADD_FAILURE() << "a key was read as a certificate";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), key.path() + " holds no PEM certificate");
+  }
+  EXPECT_THROW(ReadCertificateSubject("/nonexistent/cert.pem"), Error);
 }
 
 TEST(ParticipantIdentityTest, IsTheGuidPrefixAsSubjectFingerprintDashParticipant) {

@@ -92,7 +92,8 @@ class SkilldSecurityTest : public testutil::SkilldFixture {
     SkilldFixture::SetUp();
     audit_path_ = testutil::UniqueTempPath("audit.log");
     config_ = std::make_unique<testutil::TempFile>(
-        ".yaml", ReadText(pki_ + "/ours/skilld/security.yaml") + "lease_timeout: 30\naudit_log: " + audit_path_ + "\n");
+        ".yaml", ReadText(pki_ + "/ours/skilld/security.yaml") + "lease_timeout: 30\naudit_log: " + audit_path_ +
+                         "\naudit_certificates: " + pki_ + "/ours\n");
     StartServer("sim", config_->path());
   }
   void TearDown() override { std::remove(audit_path_.c_str()); }
@@ -228,8 +229,12 @@ TEST_F(SkilldSecurityTest, AnOperatorCommandsAndAnObserverOnlyReadsState) {
     return out + "controller " + controller;
   });
   EXPECT_EQ(carol.out, "dds_create_topic(flsd/request): Not Allowed By Security; controller " + alice) << carol.err;
-  EXPECT_TRUE(HasLine(ReadText(audit_path_), "Z identity " + alice + " (client_id " + alice + ") request ",
-                      ": stand -> accepted (ok: standing)"));
+  EXPECT_TRUE(HasLine(ReadText(audit_path_), "Z identity " + alice + " [CN=alice,O=FLSD] (client_id " + alice +
+                      ") request ", ": stand -> accepted (ok: standing)"));
+  // The identity's first 12 digits are the fingerprint of the certificate's subject.
+  const dds::CertificateSubject subject = dds::ReadCertificateSubject(pki_ + "/ours/alice/cert.pem");
+  EXPECT_EQ(subject.fingerprint, alice.substr(0, 12));
+  EXPECT_EQ(subject.name, "CN=alice,O=FLSD");
 }
 
 TEST_F(SkilldSecurityTest, FlsdClientUsesItsIdentityAndRefusesAnotherId) {
@@ -316,11 +321,11 @@ TEST_F(SkilldSecurityTest, AnOperatorSendingAnothersClientIdCannotTakeRenewOrUse
                          "own acquire_control: control is held by " + alice + "\ncontroller " + alice)
       << bob.err;
   const std::string audit = ReadText(audit_path_);
-  const std::string impostor = "identity " + b + " (client_id " + alice + ") request ";
+  const std::string impostor = "identity " + b + " [CN=bob,O=FLSD] (client_id " + alice + ") request ";
   EXPECT_TRUE(HasLine(audit, impostor, ": stop -> refused (invalid argument: client_id '" + alice +
                                            "' is not the authenticated identity of its writer (" + b + ")"));
   EXPECT_TRUE(HasLine(audit, impostor, ": execute_skill skill 1 duration 2.00 s -> refused (invalid argument: "));
-  EXPECT_TRUE(HasLine(audit, "identity " + b + " (client_id " + b + ") request ",
+  EXPECT_TRUE(HasLine(audit, "identity " + b + " [CN=bob,O=FLSD] (client_id " + b + ") request ",
                       ": acquire_control -> refused (not in control: control is held by " + alice + ")"));
 }
 

@@ -3,10 +3,12 @@
 
     PYTHONPATH=build/python python3 examples/navigate_and_plot.py --goal 5 0 --map configs/maps/demo.yaml
 
-The map's obstacles are drawn when PyYAML is installed. Ctrl-C stops the robot.
+The map's obstacles are drawn when PyYAML is installed. Exits with 4 if the robot did not get there,
+as skillctl does. Ctrl-C stops the robot.
 """
 import argparse
 import pathlib
+import sys
 
 import flsd
 
@@ -76,7 +78,8 @@ def disc(center, radius, colour):
     return f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="{radius:.1f}" fill="{colour}"/>'
 
 
-shapes = [disc(c["center"], c["radius"] * scale, "#bbb") for c in circles]
+shapes = ['<rect width="100%" height="100%" fill="white"/>']
+shapes += [disc(c["center"], c["radius"] * scale, "#bbb") for c in circles]
 shapes += [f'<polygon points="{" ".join(xy(p) for p in poly)}" fill="#bbb"/>' for poly in polygons]
 shapes += [polyline(path, 'stroke="#48c" stroke-dasharray="6 4" stroke-width="1.5"') for path in planned]
 if walked:
@@ -88,3 +91,4 @@ width, height = (x1 - x0) * scale, (y1 - y0) * scale
 args.picture.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}">'
                         + "".join(shapes) + "</svg>\n")
 print(f"picture: {args.picture}")
+sys.exit(0 if result.state == flsd.TaskState.SUCCEEDED else 4)

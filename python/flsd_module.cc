@@ -136,6 +136,7 @@ bool WaitForTask(const PyTask& t, std::optional<double> timeout) {
 }
 
 std::unique_ptr<Client> Connect(int domain, const std::string& partition, const std::string& client_id, double wait) {
+  if (domain < 0 || domain > 232) throw py::value_error("domain must be in [0, 232] (DDS), got " + std::to_string(domain));
   Client::Options options;
   options.domain_id = domain;
   options.partition = partition;

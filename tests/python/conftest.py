@@ -12,6 +12,8 @@ import pytest
 SOURCE_DIR = pathlib.Path(os.environ.get("FLSD_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
 BIN_DIR = pathlib.Path(os.environ.get("FLSD_BIN_DIR", SOURCE_DIR / "build" / "bin"))
 os.environ.setdefault("CYCLONEDDS_URI", f"file://{SOURCE_DIR}/configs/cyclonedds_loopback.xml")
+# The examples run in a folder of their own: a relative PYTHONPATH (build/python) must still find flsd.
+os.environ["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p)
 
 
 class Server:

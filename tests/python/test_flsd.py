@@ -42,6 +42,8 @@ def test_without_a_server_the_client_raises_timeout_error():
         flsd.Client(domain=231, partition="nobody", wait=0.3)
     with pytest.raises(ValueError, match="wait must be a finite number of seconds"):
         flsd.Client(domain=231, partition="nobody", wait=float("nan"))
+    with pytest.raises(ValueError, match=r"domain must be in \[0, 232\] \(DDS\), got 233"):
+        flsd.Client(domain=233)
 
 
 def test_skills_match_what_skillctl_lists(server):

@@ -152,7 +152,8 @@ int main(int argc, char** argv) {
   app.add_option("--timeout", timeout_s, "Seconds to wait for the server")->check(CLI::Range(0.1, 600.0));
   app.add_flag("--quiet", quiet, "Print only the outcome of a motion");
   app.add_option("--id", options.client_id,
-                 "Client id (default: host-pid-random); give damp and clear the same one to clear at once")
+                 "Client id (default: host-pid-random; with --security, this participant's identity, and no other); "
+                 "give damp and clear the same one to clear at once")
       ->check([](const std::string& id) { return id.size() < 64 ? std::string() : std::string("at most 63 characters"); });
   std::string security_file;
   app.add_option("--security", security_file,
@@ -223,8 +224,11 @@ int main(int argc, char** argv) {
     }
     flsd::Client client(options);
     if (!client.WaitForServer(timeout)) {
-      std::fprintf(stderr, "skillctl: no skilld answers on DDS domain %d, partition '%s' (waited %.1f s)\n",
-                   options.domain_id, options.partition.c_str(), timeout_s);
+      // With DDS Security, a server and a client that do not share a CA simply never meet.
+      std::fprintf(stderr, "skillctl: no skilld answers on DDS domain %d, partition '%s' (waited %.1f s)%s\n",
+                   options.domain_id, options.partition.c_str(), timeout_s,
+                   options.security.enabled ? "; is it a server of this deployment (the same CA)?"
+                                            : "; a server with DDS Security answers only with --security");
       return kExitNoServer;
     }
     if (command == "list") {

@@ -80,6 +80,13 @@ def test_state_is_typed_and_arrives_at_the_control_rate(server):
     assert str(later.mode) in ("idle", "stand")
     assert later.controller == ""
     assert "joint_torque" in later.as_dict()
+    try:
+        import numpy
+    except ImportError:
+        assert isinstance(later.position, tuple) and isinstance(later.task.path, tuple)
+    else:
+        assert later.joint_position.shape == (12,) and later.foot_contact.dtype == bool
+        assert later.task.path.shape[1:] == (2,)
 
 
 def test_a_skill_runs_to_its_result_under_with(server):

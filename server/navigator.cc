@@ -153,9 +153,7 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
   const auto period = std::chrono::duration<double>(1.0 / config_.rate_hz);
 
   PlannedPath path;
-  if (!StepOutIfInside(job, generation) || !Plan(job, controller_.status().state.base_position.head<2>(), path)) {
-    return;
-  }
+  if (!Plan(job, controller_.status().state.base_position.head<2>(), path)) return;
   spdlog::info("navigate to ({:.2f}, {:.2f}): {} waypoints, {:.2f} m, planned in {:.0f} ms", job.goal.x(),
                job.goal.y(), path.waypoints.size(), path.length, 1e3 * path.planning_seconds);
   WaypointFollower follower(path.waypoints, config_.follower);
@@ -200,54 +198,13 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
                           : Format("%.2f m off the path", command.distance_to_path),
                    replans);
       Steer(job, Eigen::Vector3d::Zero(), "replanning");  // hold still while planning
-      if (!StepOutIfInside(job, generation) || !Plan(job, controller_.status().state.base_position.head<2>(), path)) {
-        return;
-      }
+      if (!Plan(job, position, path)) return;
       follower = WaypointFollower(path.waypoints, config_.follower);
       continue;
     }
     Steer(job, command.velocity,
           Format("%.2f m to go along the path, %.0f replans", command.remaining, replans));
   }
-}
-
-bool Navigator::StepOutIfInside(const NavigationJob& job, uint64_t generation) {
-  using Clock = std::chrono::steady_clock;
-  constexpr double kOut = 0.05;          // m outside the obstacle: the planner can start there
-  constexpr double kStepOutTime = 10.0;  // s of trying, standing up included
-  constexpr double kH = 0.02;            // m, the finite difference of the clearance's gradient
-  const Eigen::Vector2d start = controller_.status().state.base_position.head<2>();
-  if (job.map.Clearance(start) > 0.0) return true;
-  spdlog::info("navigate: the start ({:.2f}, {:.2f}) is inside an obstacle; stepping out", start.x(), start.y());
-  const auto period = std::chrono::duration<double>(1.0 / config_.rate_hz);
-  const Clock::time_point begin = Clock::now();
-  bool seen = false;
-  for (Clock::time_point next = begin; !Superseded(generation); next += std::chrono::duration_cast<Clock::duration>(period)) {
-    std::this_thread::sleep_until(next);
-    const ControllerStatus status = controller_.status();
-    const double elapsed = std::chrono::duration<double>(Clock::now() - begin).count();
-    if (!IsOurs(status, job)) {
-      if (seen || elapsed > 1.0) return false;
-      continue;
-    }
-    seen = true;
-    const Eigen::Vector2d p = status.state.base_position.head<2>();
-    if (job.map.Clearance(p) > kOut) return true;
-    if (elapsed > kStepOutTime) {
-      Finish(job, flsd_msgs_TASK_NO_PATH,
-             Format("the robot at (%.2f, %.2f) did not step out of an obstacle in %.0f s", p.x(), p.y(), kStepOutTime));
-      return false;
-    }
-    if (status.mode != flsd_msgs_MODE_NAVIGATE) continue;  // still standing up
-    // Walk (without turning) up the clearance's gradient: the shortest way out.
-    const Eigen::Vector2d gradient(job.map.Clearance(p + Eigen::Vector2d(kH, 0)) - job.map.Clearance(p - Eigen::Vector2d(kH, 0)),
-                                   job.map.Clearance(p + Eigen::Vector2d(0, kH)) - job.map.Clearance(p - Eigen::Vector2d(0, kH)));
-    if (gradient.norm() < 1e-12) continue;
-    const double yaw = Yaw(status.state.base_orientation), c = std::cos(yaw), s = std::sin(yaw);
-    const Eigen::Vector2d out = gradient.normalized() * config_.follower.max_speed * config_.follower.min_speed_share;
-    Steer(job, Eigen::Vector3d(c * out.x() + s * out.y(), -s * out.x() + c * out.y(), 0.0), "stepping out of an obstacle");
-  }
-  return false;
 }
 
 void Navigator::Steer(const NavigationJob& job, const Eigen::Vector3d& velocity, const std::string& progress) {

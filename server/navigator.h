@@ -68,10 +68,6 @@ class Navigator {
   bool Accept(MapRequest& request, uint64_t generation);
   void Navigate(const NavigationJob& job, uint64_t generation);
   bool Plan(const NavigationJob& job, const Eigen::Vector2d& from, PlannedPath& path);
-  // A robot whose centre is inside an obstacle (it walked into one the map has and the world may
-  // not) walks straight out before the planner, which cannot start there, is asked; false when
-  // the job ended (finished as no path if the robot did not get out).
-  bool StepOutIfInside(const NavigationJob& job, uint64_t generation);
   void Finish(const NavigationJob& job, flsd_msgs_TaskState state, const std::string& message);
   void Steer(const NavigationJob& job, const Eigen::Vector3d& velocity, const std::string& progress);
   bool Superseded(uint64_t generation) const;

@@ -24,6 +24,22 @@ std::string Where(const Eigen::Vector2d& p) {
   return text;
 }
 
+constexpr double kMaxWayOut = 2.0;  // m a start inside an obstacle may be from its edge
+
+// The point a little outside the obstacle (or inside the map) that a straight walk up the
+// clearance's gradient from `p` reaches first, if within kMaxWayOut.
+std::optional<Eigen::Vector2d> WayOut(const Map2D& map, Eigen::Vector2d p) {
+  constexpr double kStep = 0.02, kOutside = 0.05;  // m
+  for (double walked = 0.0; walked <= kMaxWayOut; walked += kStep) {
+    if (map.Clearance(p) > kOutside) return p;
+    const Eigen::Vector2d dx(kStep, 0.0), dy(0.0, kStep);
+    const Eigen::Vector2d gradient(map.Clearance(p + dx) - map.Clearance(p - dx), map.Clearance(p + dy) - map.Clearance(p - dy));
+    if (!(gradient.norm() > 0.0)) return std::nullopt;  // a ridge: no way out is better than another
+    p += kStep * gradient.normalized();
+  }
+  return std::nullopt;
+}
+
 // The simplified path's corners on `map` with `margin` beyond the robot's radius, or none.
 // States near the start need only be outside obstacles (a robot that strayed into the margin
 // walks back out), and states near the goal need only be free.
@@ -104,12 +120,22 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
   PlannedPath result;
   const auto begin = std::chrono::steady_clock::now();
   // A robot that has strayed into the margin around an obstacle or the map's edge (a replan after
-  // an overshoot) may still walk out of it: only a start inside an obstacle, or off the map, is
-  // blocked, and states within the robot's radius of the start need only be outside obstacles.
+  // an overshoot) may still walk out of it: states within the robot's radius of the start need
+  // only be outside obstacles (Solve). One whose centre is inside an obstacle (the map's obstacles
+  // need not exist in the world) is led straight out, up the clearance's gradient, and planned
+  // for from there.
+  Eigen::Vector2d from = start;
   if (!(map.Clearance(start) > 0.0)) {
-    result.status = PlannedPath::Status::kStartBlocked;
-    result.message = "the start " + Where(start) + " is inside an obstacle or off the map";
-    return result;
+    const std::optional<Eigen::Vector2d> exit = WayOut(map, start);
+    if (!exit) {
+      char text[160];
+      std::snprintf(text, sizeof text, "the start %s is inside an obstacle or off the map, more than %.1f m from its edge",
+                    Where(start).c_str(), kMaxWayOut);
+      result.status = PlannedPath::Status::kStartBlocked;
+      result.message = text;
+      return result;
+    }
+    from = *exit;
   }
   if (!map.IsFree(goal)) {
     result.status = PlannedPath::Status::kGoalBlocked;
@@ -118,8 +144,9 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
   }
 
   for (const double margin : {options.clearance_margin, 0.0}) {
-    std::optional<std::vector<Eigen::Vector2d>> corners = Solve(map, start, goal, options, margin);
+    std::optional<std::vector<Eigen::Vector2d>> corners = Solve(map, from, goal, options, margin);
     if (corners) {
+      if (from != start) corners->insert(corners->begin(), start);
       result.status = PlannedPath::Status::kFound;
       result.margin = margin;
       result.length = 0.0;

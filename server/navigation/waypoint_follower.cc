@@ -56,12 +56,12 @@ FollowerCommand WaypointFollower::Update(const Eigen::Vector2d& position, double
   const Eigen::Vector2d body(c * to_target.x() + s * to_target.y(), -s * to_target.x() + c * to_target.y());
   const double heading_error = std::atan2(body.y(), body.x());
   out.velocity.z() = std::clamp(config_.heading_gain * heading_error, -config_.max_turn_rate, config_.max_turn_rate);
-  if (std::abs(heading_error) > config_.turn_in_place_above) return out;
+  if (std::abs(heading_error) > config_.turn_in_place_above) return out;  // turn first
   // Slow down over the last half metre so as not to overshoot the goal, and near obstacles.
   const double room = config_.slow_clearance > 0.0 ? std::clamp(free_clearance / config_.slow_clearance, 0.0, 1.0) : 1.0;
   const double share = config_.min_speed_share + (1.0 - config_.min_speed_share) * room;
   const double speed = share * std::min(config_.max_speed, config_.max_speed * (position - waypoints_.back()).norm() / 0.5);
-  if (body.norm() > 1e-9) out.velocity.head<2>() = body.normalized() * speed * std::cos(heading_error);
+  if (body.norm() > 1e-9) out.velocity.head<2>() = body.normalized() * speed;
   return out;
 }
 

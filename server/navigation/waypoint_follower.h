@@ -1,9 +1,10 @@
 #pragma once
 // Turns a planned path into body-frame velocity commands (vx, vy, wz) for the skill selector:
-// pure pursuit of a point `lookahead` metres further along the path. Far off its heading the
-// robot turns in place first, then walks towards the point while turning to face it: learned
-// skill libraries turn and walk well, and walk sideways and turn at once badly. It slows down
-// where the room left beyond its radius is small, and over the last half metre.
+// pure pursuit of a point `lookahead` metres further along the path, walking towards it (a
+// quadruped may step sideways) while turning to face it, and slowing down over the last half
+// metre. Optionally, far off its heading the robot first turns in place (for a library that turns
+// both ways better than it steps sideways), and it slows down where little room is left beyond
+// its radius.
 
 #include <Eigen/Core>
 
@@ -21,10 +22,10 @@ struct FollowerConfig {
   double heading_gain = 1.5;     // rad/s per rad of heading error
   double goal_tolerance = 0.25;  // m from the last waypoint counts as reached
   double replan_distance = 0.75;  // m off the path: plan again
-  double turn_in_place_above = 0.8;  // rad of heading error beyond which the robot only turns
+  double turn_in_place_above = M_PI;  // rad of heading error beyond which it only turns (pi: never)
   // Speed scales with the clearance left beyond the robot's radius, down to min_speed_share of
-  // max_speed at none.
-  double slow_clearance = 0.4;  // m
+  // max_speed at none (slow_clearance 0: never).
+  double slow_clearance = 0.0;  // m
   double min_speed_share = 0.4;
   template <class V>
   void Visit(V& v) {

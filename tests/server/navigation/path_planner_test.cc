@@ -92,7 +92,7 @@ TEST(PlanPath, AGoalInsideAnObstacleIsBlocked) {
 
 // A replan after the robot overshot into the margin along the map's edge walks it back out;
 // only a start inside an obstacle is blocked.
-TEST(PlanPath, AStartInTheMarginIsWalkedOutOfButAStartInAnObstacleIsBlocked) {
+TEST(PlanPath, AStartInTheMarginIsWalkedOutOf) {
   const Map2D map = Map2D::Load("configs/maps/demo.yaml");
   const Eigen::Vector2d start(5.78, -0.15);  // 0.22 m from the edge at x = 6
   ASSERT_FALSE(map.IsFree(start));
@@ -103,9 +103,25 @@ TEST(PlanPath, AStartInTheMarginIsWalkedOutOfButAStartInAnObstacleIsBlocked) {
       EXPECT_TRUE(map.IsFree(p)) << p.transpose();
     }
   }
-  const PlannedPath blocked = PlanPath(map, {1.5, 0.2}, {4.5, 0.0});
+}
+
+// A start inside an obstacle (the map's obstacles need not exist in the world) is led straight out
+// to just beyond the obstacle's edge, then planned for from there; one deeper than 2 m is blocked.
+TEST(PlanPath, AStartInsideAnObstacleIsLedOutOrBlockedWhenTooDeep) {
+  const Map2D map = Map2D::Load("configs/maps/demo.yaml");  // a 0.5 m circle about (1.5, 0.2)
+  const Eigen::Vector2d start(1.5, -0.1);  // 0.3 m below the centre: 0.2 m from the edge
+  const PlannedPath path = PlanPath(map, start, {4.5, 0.0});
+  ASSERT_EQ(path.status, Status::kFound) << path.message;
+  EXPECT_TRUE(path.waypoints.front().isApprox(start));
+  // The way out goes straight down, away from the centre, to 0.05-0.07 m outside the circle.
+  EXPECT_NEAR(path.waypoints[1].x(), 1.5, 1e-6);
+  const double out = (path.waypoints[1] - Eigen::Vector2d(1.5, 0.2)).norm() - 0.5;
+  EXPECT_GT(out, 0.05);
+  EXPECT_LT(out, 0.071);
+  const Map2D big = Map2D::Parse("bounds: [-10, 10, -10, 10]\ncircles: [{center: [0, 0], radius: 3}]\n", "test");
+  const PlannedPath blocked = PlanPath(big, {0.5, 0.0}, {6.0, 0.0});
   EXPECT_EQ(blocked.status, Status::kStartBlocked);
-  EXPECT_THAT(blocked.message, ::testing::HasSubstr("the start (1.50, 0.20) is inside an obstacle"));
+  EXPECT_THAT(blocked.message, ::testing::HasSubstr("the start (0.50, 0.00) is inside an obstacle or off the map, more than 2.0 m"));
 }
 
 TEST(PlanPath, AnEnclosedGoalHasNoPath) {

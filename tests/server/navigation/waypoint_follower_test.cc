@@ -21,21 +21,30 @@ TEST(WaypointFollower, WalksForwardAlongAStraightPathItFaces) {
   EXPECT_NEAR(c.remaining, 3.0, 1e-9);
 }
 
-TEST(WaypointFollower, TurnsInPlaceTowardsAPathFarOffItsHeadingThenWalks) {
+TEST(WaypointFollower, TurnsTowardsAPathToItsLeft) {
   WaypointFollower follower(kStraight, FollowerConfig{});
   const FollowerCommand c = follower.Update({0.0, 0.0}, -M_PI / 2);  // facing -y: the path is to its left
+  EXPECT_NEAR(c.velocity.y(), 0.5, 1e-9);  // it steps left, towards the path
+  EXPECT_NEAR(c.velocity.z(), 1.0, 1e-9);  // and turns left, at the rate limit
+}
+
+TEST(WaypointFollower, CanTurnInPlaceTowardsAPathFarOffItsHeadingThenWalk) {
+  FollowerConfig config;
+  config.turn_in_place_above = 0.8;
+  WaypointFollower follower(kStraight, config);
+  const FollowerCommand c = follower.Update({0.0, 0.0}, -M_PI / 2);
   EXPECT_EQ(c.velocity.head<2>(), Eigen::Vector2d::Zero());  // it does not walk yet
   EXPECT_NEAR(c.velocity.z(), 1.0, 1e-9);                    // it turns left, at the rate limit
-  // 0.5 rad off (within turn_in_place_above, 0.8): it walks at cos(0.5) of its speed, towards the
-  // lookahead point, and turns at 1.5 rad/s per rad.
+  // 0.5 rad off: it walks towards the lookahead point and turns at 1.5 rad/s per rad.
   const FollowerCommand walking = follower.Update({0.0, 0.0}, -0.5);
-  EXPECT_NEAR(walking.velocity.head<2>().norm(), 0.5 * std::cos(0.5), 1e-9);
-  EXPECT_NEAR(walking.velocity.x(), 0.5 * std::cos(0.5) * std::cos(0.5), 1e-9);
+  EXPECT_NEAR(walking.velocity.head<2>().norm(), 0.5, 1e-9);
   EXPECT_NEAR(walking.velocity.z(), 0.75, 1e-9);
 }
 
-TEST(WaypointFollower, SlowsDownWhereLittleRoomIsLeftBeyondItsRadius) {
-  WaypointFollower follower(kStraight, FollowerConfig{});
+TEST(WaypointFollower, CanSlowDownWhereLittleRoomIsLeftBeyondItsRadius) {
+  FollowerConfig config;
+  config.slow_clearance = 0.4;
+  WaypointFollower follower(kStraight, config);
   // slow_clearance 0.4 m, min_speed_share 0.4: 0.2 m of room leaves 70 % of 0.5 m/s, none 40 %.
   EXPECT_NEAR(follower.Update({0.0, 0.0}, 0.0, 0.2).velocity.x(), 0.35, 1e-9);
   EXPECT_NEAR(follower.Update({0.0, 0.0}, 0.0, 0.0).velocity.x(), 0.2, 1e-9);

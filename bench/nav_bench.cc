@@ -124,7 +124,7 @@ nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, doub
   uint64_t tick = 0;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration + 15.0);
   while (!task.Done() && std::chrono::steady_clock::now() < give_up) {
-    const std::optional<RobotState> state = client.NextState(tick, std::chrono::milliseconds(500));
+    const std::optional<StateReport> state = client.NextState(tick, std::chrono::milliseconds(500));
     if (!state) continue;
     tick = state->tick;
     const Eigen::Vector2d p = goal.start + Eigen::Vector2d(state->position[0], state->position[1]);

@@ -58,9 +58,9 @@ TaskReport ToTaskReport(const StateSample& s) {
   return t;
 }
 
-RobotState ToRobotState(const StateSample& s) {
+StateReport ToStateReport(const StateSample& s) {
   const flsd_msgs_RobotState& m = s.msg;
-  RobotState r;
+  StateReport r;
   r.time = m.time;
   r.tick = m.tick;
   r.backend = s.backend;
@@ -260,17 +260,17 @@ Reply Client::ReleaseControl(std::chrono::milliseconds timeout) {
   return Simple(dds::Call::kReleaseControl, timeout);
 }
 
-std::optional<RobotState> Client::State() const {
+std::optional<StateReport> Client::State() const {
   std::lock_guard<std::mutex> lock(state_mutex_);
   if (!latest_) return std::nullopt;
-  return ToRobotState(*latest_);
+  return ToStateReport(*latest_);
 }
 
-std::optional<RobotState> Client::NextState(uint64_t after, std::chrono::milliseconds timeout) const {
+std::optional<StateReport> Client::NextState(uint64_t after, std::chrono::milliseconds timeout) const {
   const std::optional<StateSample> s =
       WaitForState([after](const StateSample& sample) { return sample.msg.tick > after; }, timeout);
   if (!s) return std::nullopt;
-  return ToRobotState(*s);
+  return ToStateReport(*s);
 }
 
 TaskReport Client::TaskProgress(uint64_t request_id) const {

@@ -107,9 +107,9 @@ class Client {
   bool lost_control() const { return lost_control_; }
 
   // The newest state sample, typed; nullopt before the first.
-  std::optional<RobotState> State() const;
+  std::optional<StateReport> State() const;
   // The first sample newer than tick `after`; nullopt after `timeout`.
-  std::optional<RobotState> NextState(uint64_t after, std::chrono::milliseconds timeout) const;
+  std::optional<StateReport> NextState(uint64_t after, std::chrono::milliseconds timeout) const;
   // The state topic's latest report of this client's long call `request_id` (state kNone if it
   // has not reported it), and a wait for its end.
   TaskReport TaskProgress(uint64_t request_id) const;

@@ -26,7 +26,7 @@ constexpr int kExitTaskFailed = 4;
 std::atomic<bool> g_interrupted{false};
 void OnSignal(int) { g_interrupted = true; }
 
-void PrintState(const flsd::RobotState& s) {
+void PrintState(const flsd::StateReport& s) {
   std::printf("t %7.2f  %-8s", s.time, flsd::Name(s.mode));
   if (s.skill >= 0) std::printf(" %-3d", s.skill); else std::printf("    ");
   std::printf("  xyz %6.2f %6.2f %5.2f  v %5.2f %5.2f  wz %5.2f", s.position[0], s.position[1], s.position[2],
@@ -42,7 +42,7 @@ struct MotionSummary {
   double t0 = 0.0, x0 = 0.0, y0 = 0.0, turned = 0.0, last_yaw = 0.0;
   double t1 = 0.0, x1 = 0.0, y1 = 0.0;
 
-  void Add(const flsd::RobotState& s) {
+  void Add(const flsd::StateReport& s) {
     const bool moving = s.mode == flsd::Mode::kSkill || s.mode == flsd::Mode::kVelocity || s.mode == flsd::Mode::kNavigate;
     if (!moving) return;
     const double yaw = s.yaw();
@@ -76,7 +76,7 @@ int FollowTask(flsd::Client& client, const char* call, const flsd::Task& task, b
       return kExitTaskFailed;
     }
     // Each sample once: the latest again would count twice.
-    const std::optional<flsd::RobotState> s = client.NextState(last_tick, std::chrono::milliseconds(1000));
+    const std::optional<flsd::StateReport> s = client.NextState(last_tick, std::chrono::milliseconds(1000));
     if (!s) {
       std::fprintf(stderr, "skillctl: no state from skilld for 1 s\n");
       return kExitNoServer;
@@ -123,7 +123,7 @@ void WaitForStand(const flsd::Client& client, std::chrono::milliseconds timeout)
   const auto until = std::chrono::steady_clock::now() + timeout;
   uint64_t tick = 0;
   while (std::chrono::steady_clock::now() < until) {
-    const std::optional<flsd::RobotState> s = client.NextState(tick, std::chrono::milliseconds(200));
+    const std::optional<flsd::StateReport> s = client.NextState(tick, std::chrono::milliseconds(200));
     if (!s) continue;
     if (s->mode == flsd::Mode::kStand) return;
     tick = s->tick;
@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
     if (command == "watch") {
       const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int>(watch_seconds * 1000));
       while (!g_interrupted && (watch_seconds <= 0.0 || std::chrono::steady_clock::now() < until)) {
-        const std::optional<flsd::RobotState> s = client.NextState(0, std::chrono::milliseconds(1000));
+        const std::optional<flsd::StateReport> s = client.NextState(0, std::chrono::milliseconds(1000));
         if (!s) {
           std::fprintf(stderr, "skillctl: no state from skilld for 1 s\n");
           return kExitNoServer;

@@ -30,7 +30,7 @@ std::string Reply::Describe() const {
   return text;
 }
 
-double RobotState::yaw() const {
+double StateReport::yaw() const {
   const double w = orientation[0], x = orientation[1], y = orientation[2], z = orientation[3];
   return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
 }

@@ -79,7 +79,7 @@ struct TaskReport {
 };
 
 // One sample of the state topic.
-struct RobotState {
+struct StateReport {
   double time = 0.0;  // s since the server started its loop
   uint64_t tick = 0;
   std::string backend;  // sim, hw

@@ -22,7 +22,7 @@ class ClientApiTest : public testutil::ClientSkilldFixture {
     const Reply stand = client.Stand();
     ASSERT_TRUE(stand.ok()) << stand.Describe();
     for (uint64_t tick = 0;;) {
-      const std::optional<RobotState> s = client.NextState(tick, 10s);
+      const std::optional<StateReport> s = client.NextState(tick, 10s);
       ASSERT_TRUE(s) << "no state";
       if (s->mode == Mode::kStand && s->position[2] > 0.22) return;
       tick = s->tick;
@@ -66,7 +66,7 @@ TEST_F(ClientApiTest, ASkillTaskIsWaitedOnToItsResult) {
   EXPECT_EQ(result.request_id, task.request_id());
   EXPECT_GE(result.elapsed, 1.48);  // from acceptance: the wait for a verified stand counts too
   EXPECT_NEAR(result.remaining, 0.0, 0.03);
-  const std::optional<RobotState> state = client->State();
+  const std::optional<StateReport> state = client->State();
   ASSERT_TRUE(state);
   EXPECT_EQ(state->backend, "sim");
   EXPECT_EQ(state->controller, client->id());
@@ -98,7 +98,7 @@ TEST_F(ClientApiTest, RefusedCallsSayWhyAndRefusedTasksAreDoneAtOnce) {
   EXPECT_TRUE(client->Reset().ok());
   ASSERT_TRUE(client->Damp().ok());
   for (uint64_t tick = 0;;) {  // the stop latches at the next tick
-    const std::optional<RobotState> s = client->NextState(tick, 5s);
+    const std::optional<StateReport> s = client->NextState(tick, 5s);
     ASSERT_TRUE(s) << "no state";
     if (s->mode == Mode::kDamp) break;
     tick = s->tick;

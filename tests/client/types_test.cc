@@ -52,7 +52,7 @@ TEST(ClientTypesTest, ATaskHasEndedOnceItNeitherIsUnreportedNorRunning) {
 }
 
 TEST(ClientTypesTest, YawOfKnownOrientations) {
-  RobotState s;
+  StateReport s;
   s.orientation = {1.0, 0.0, 0.0, 0.0};
   EXPECT_NEAR(s.yaw(), 0.0, 1e-12);
   s.orientation = {std::cos(M_PI / 4), 0.0, 0.0, std::sin(M_PI / 4)};  // 90 deg about z

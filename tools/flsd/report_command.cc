@@ -1,5 +1,7 @@
 #include "tools/flsd/report_command.h"
 
+#include <memory>
+
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
@@ -11,6 +13,7 @@
 #include "skills/learning/evaluation.h"
 #include "skills/learning/run_loop.h"
 #include "skills/learning/trainer.h"
+#include "tools/flsd/subcommands.h"
 
 namespace flsd {
 namespace {
@@ -66,4 +69,17 @@ int RunReport(const ReportOptions& options) {
   return 0;
 }
 
+namespace cli {
+
+void AddReport(CLI::App& app, Subcommands& out) {
+  auto report = std::make_shared<ReportOptions>();
+  CLI::App* cmd =
+      app.add_subcommand("report", "Compare skill runs as the paper does: an HTML page with tables and figures");
+  cmd->add_option("runs", report->runs, "Run folders (flsd train); RUN@ITER for a checkpoint a run kept")->required();
+  cmd->add_option("-o,--output", report->output, "Folder to write index.html, report.json and figures")->required();
+  cmd->add_option("--steps", report->steps, "Steps per skill (default: the episode length)")->check(CLI::Range(1, 1000000));
+  out.push_back({cmd, [report] { return RunReport(*report); }});
+}
+
+}  // namespace cli
 }  // namespace flsd

@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <string>
 
 #include "core/rng.h"
 #include "robot/observation.h"
 #include "sim/env.h"
+#include "tools/flsd/subcommands.h"
 
 namespace flsd {
 namespace {
@@ -93,4 +95,17 @@ int RunSimDemo(const SimDemoOptions& options) {
   return stood ? 0 : 1;
 }
 
+namespace cli {
+
+void AddDemo(CLI::App& app, Subcommands& out) {
+  auto demo = std::make_shared<SimDemoOptions>();
+  CLI::App* cmd = app.add_subcommand("demo", "Stand the simulated A1, then drive it with random targets");
+  cmd->add_option("--stand-seconds", demo->stand_seconds, "Length of the standing phase")->check(CLI::Range(0.02, 3600.0));
+  cmd->add_option("--random-seconds", demo->random_seconds, "Length of the random-target phase")
+      ->check(CLI::Range(0.02, 3600.0));
+  cmd->add_option("--seed", demo->seed, "Random seed");
+  out.push_back({cmd, [demo] { return RunSimDemo(*demo); }});
+}
+
+}  // namespace cli
 }  // namespace flsd

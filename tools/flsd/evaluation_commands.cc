@@ -1,0 +1,92 @@
+// flsd eval, export, export-selector and track.
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "core/paths.h"
+#include "skills/learning/evaluation.h"
+#include "skills/learning/export.h"
+#include "skills/learning/tracking_eval.h"
+#include "skills/learning/training_run.h"
+#include "skills/runtime/skill_library.h"
+#include "tools/flsd/subcommands.h"
+
+namespace flsd::cli {
+namespace {
+
+struct RunArgs {
+  std::string run_dir, library_path;
+  int kept_iteration = 0;
+};
+
+int PrintJson(const nlohmann::json& result) {
+  std::printf("%s\n", result.dump(2).c_str());
+  return 0;
+}
+
+}  // namespace
+
+void AddEvaluation(CLI::App& app, Subcommands& out) {
+  struct EvalArgs : RunArgs {
+    EvaluationOptions options;
+    bool json = false;
+  };
+  auto eval = std::make_shared<EvalArgs>();
+  CLI::App* eval_cmd = app.add_subcommand("eval", "Roll out every skill and compute the paper's metrics");
+  eval_cmd->add_option("run", eval->run_dir, "Run folder")->required();
+  eval_cmd->add_flag("--randomize", eval->options.randomize, "Keep the training randomisation on");
+  eval_cmd->add_option("--steps", eval->options.steps, "Steps per skill (default: the episode length)")
+      ->check(CLI::Range(1, 1000000));
+  eval_cmd->add_flag("--json", eval->json, "Print the whole JSON (default: a summary)");
+  eval_cmd->add_option("--iteration", eval->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
+  out.push_back({eval_cmd, [eval] {
+                   ConfigureTorchThreads(0);
+                   const nlohmann::json result = EvaluateRun(eval->run_dir, eval->options, eval->kept_iteration);
+                   if (eval->json) return PrintJson(result);
+                   std::printf("%s: %d of %d skills survive 500 steps; state coverage %.4f (%ld of %ld cells); "
+                               "high-frequency power ratio %.4f\n",
+                               eval->run_dir.c_str(), result["skills_surviving_500_steps"].get<int>(),
+                               result["num_skills"].get<int>(), result["state_coverage"]["rate"].get<double>(),
+                               result["state_coverage"]["cells_visited"].get<long>(),
+                               result["state_coverage"]["cells_total"].get<long>(),
+                               result["high_frequency_power_ratio"]["pooled"].get<double>());
+                   return 0;
+                 }});
+
+  auto export_args = std::make_shared<RunArgs>();
+  CLI::App* export_cmd = app.add_subcommand("export", "Write a run's skill library (safetensors)");
+  export_cmd->add_option("run", export_args->run_dir, "Run folder")->required();
+  export_cmd->add_option("-o,--output", export_args->library_path, "Library file to write")->required();
+  export_cmd->add_option("--iteration", export_args->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
+  out.push_back({export_cmd, [export_args] {
+                   ConfigureTorchThreads(0);
+                   return PrintJson(ExportRun(export_args->run_dir, export_args->library_path, export_args->kept_iteration));
+                 }});
+
+  auto selector = std::make_shared<RunArgs>();
+  CLI::App* export_selector_cmd =
+      app.add_subcommand("export-selector", "Add a selector run's skill selector to its skill library");
+  export_selector_cmd->add_option("run", selector->run_dir, "Selector run folder (flsd train-selector)")->required();
+  export_selector_cmd->add_option("-o,--output", selector->library_path, "Library file to write")->required();
+  out.push_back({export_selector_cmd, [selector] {
+                   ConfigureTorchThreads(0);
+                   return PrintJson(ExportSelector(selector->run_dir, selector->library_path));
+                 }});
+
+  struct TrackArgs {
+    std::string library = "models/a1_flsd.safetensors";
+    double seconds = 10.0;
+  };
+  auto track = std::make_shared<TrackArgs>();
+  CLI::App* track_cmd = app.add_subcommand(
+      "track", "Track eight velocity commands with a library's learned selector and the nearest-skill selector");
+  track_cmd->add_option("library", track->library, "Skill library (default: the shipped one)");
+  track_cmd->add_option("--seconds", track->seconds, "Seconds per command")->check(CLI::Range(2.5, 600.0));
+  out.push_back({track_cmd, [track] {
+                   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(track->library));
+                   return PrintJson(CompareSelectors(library, track->seconds, 2.0, 1));
+                 }});
+}
+
+}  // namespace flsd::cli

@@ -16,18 +16,17 @@
 namespace flsd::dds {
 namespace {
 
-// The plugins Cyclone loads by name (dlopen finds them through its own search path).
+// The plugins, which Cyclone finds by library name.
 struct Plugin {
-  const char* kind;  // the property infix and the XML element
-  const char* element;
+  const char* kind;  // in the property names: dds.sec.<kind>.library.path
   const char* library;
   const char* init;
   const char* finalize;
 };
 constexpr Plugin kPlugins[] = {
-    {"auth", "Authentication", "dds_security_auth", "init_authentication", "finalize_authentication"},
-    {"crypto", "Cryptographic", "dds_security_crypto", "init_crypto", "finalize_crypto"},
-    {"access", "AccessControl", "dds_security_ac", "init_access_control", "finalize_access_control"},
+    {"auth", "dds_security_auth", "init_authentication", "finalize_authentication"},
+    {"crypto", "dds_security_crypto", "init_crypto", "finalize_crypto"},
+    {"access", "dds_security_ac", "init_access_control", "finalize_access_control"},
 };
 
 // (property, config key, value) of the six files.

@@ -5,9 +5,9 @@
 // and how traffic is protected. Off by default; scripts/make_pki.sh makes the files.
 //
 // Who wrote a sample: with security on, the handshake binds a participant's GUID to its
-// certificate (Cyclone refuses a peer whose GUID prefix does not begin with the SHA-256 of its
-// certificate's subject), and signed RTPS messages bind every sample to the participant that
-// sent it. Cyclone 0.10's C API does not expose a peer's subject name, so a writer's identity is
+// certificate (Cyclone refuses a peer whose GUID prefix does not begin with the first 47 bits of
+// the SHA-256 of its certificate's subject), and signed RTPS messages bind every sample to the
+// participant that sent it. Cyclone 0.10's C API does not expose a peer's subject name, so a writer's identity is
 // its participant's GUID prefix: 12 hex digits of its certificate's subject fingerprint, a dash,
 // 12 of the participant itself (WriterIdentity).
 

@@ -12,6 +12,7 @@ packages=(
   cyclonedds-dev cyclonedds-tools openssl libssl-dev
   libompl-dev
   libopenmpi-dev openmpi-bin
+  chromium
   pybind11-dev python3-dev python3-pytest
 )
 
@@ -19,6 +20,9 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# skillweb's page is bundled with npm. A NodeSource Node.js brings its own npm and conflicts with
+# Debian's npm package, so Debian's Node.js and npm come only where there is no npm at all.
+command -v npm > /dev/null || missing+=(nodejs npm)
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 echo "install_deps: installing ${missing[*]}"

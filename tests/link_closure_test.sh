@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The serving binaries' link closure: skilld runs its policies in Eigen and must not link libtorch;
-# skillctl is a DDS client and must link neither libtorch, nor MuJoCo, nor OMPL. Checked on what
+# skillctl and skillweb are DDS clients and must link neither libtorch, nor MuJoCo, nor OMPL. Checked on what
 # CMake hands the linker (the closure of the targets, whatever the linker then drops) and on what
 # the binaries load.
 set -euo pipefail
@@ -22,5 +22,6 @@ check() {  # binary, link command file, forbidden library patterns...
 }
 check "$build/bin/skilld" "$build/server/CMakeFiles/skilld.dir/link.txt" 'libtorch|libc10'
 check "$build/bin/skillctl" "$build/client/CMakeFiles/skillctl.dir/link.txt" 'libtorch|libc10' 'libmujoco' 'libompl'
+check "$build/bin/skillweb" "$build/client/web/CMakeFiles/skillweb.dir/link.txt" 'libtorch|libc10' 'libmujoco' 'libompl'
 echo "link closure: $failures violations"
 [ "$failures" -eq 0 ]

@@ -1,0 +1,145 @@
+// skillweb end to end: a real skilld on loopback, skillweb in front of it, and its page in headless
+// Chromium driven by drive_page.cjs like a user on a phone. The test records the state topic with
+// a client of its own and checks what the page showed and did against it.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/common/client_skilld_fixture.h"
+
+namespace flsd {
+namespace {
+
+using testutil::BinaryPath;
+using testutil::Process;
+using testutil::RunProgram;
+using testutil::UniqueTempPath;
+
+// Every state sample the test's own client sees, by tick.
+class StateRecorder {
+ public:
+  explicit StateRecorder(const Client& client)
+      : thread_([this, &client] {
+          uint64_t tick = 0;
+          while (running_) {
+            if (const auto s = client.NextState(tick, std::chrono::milliseconds(100))) {
+              tick = s->tick;
+              std::lock_guard<std::mutex> lock(mutex_);
+              samples_[tick] = *s;
+            }
+          }
+        }) {}
+  ~StateRecorder() {
+    running_ = false;
+    thread_.join();
+  }
+
+  // The sample of `tick` itself, if recorded.
+  std::optional<StateReport> At(uint64_t tick) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = samples_.find(tick);
+    if (it == samples_.end()) return std::nullopt;
+    return it->second;
+  }
+  // The newest sample at or before `tick` (the topic may drop one).
+  std::optional<StateReport> AtOrBefore(uint64_t tick) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = samples_.upper_bound(tick);
+    if (it == samples_.begin()) return std::nullopt;
+    return (--it)->second;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<uint64_t, StateReport> samples_;
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+};
+
+class SkillwebTest : public testutil::ClientSkilldFixture {
+ protected:
+  // Starts skillweb on any free port and returns its page's address.
+  std::string StartSkillweb() {
+    const std::string log = UniqueTempPath("skillweb.log");
+    web_ = std::make_unique<Process>(BinaryPath("skillweb"),
+                                     std::vector<std::string>{"--domain", std::to_string(domain_), "--partition",
+                                                              partition_, "--port", "0"},
+                                     log);
+    const std::regex address("http://127\\.0\\.0\\.1:[0-9]+/");
+    for (int i = 0; i < 100; ++i) {
+      std::smatch m;
+      const std::string text = web_->Log();
+      if (std::regex_search(text, m, address)) return m.str();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    ADD_FAILURE() << "skillweb did not start: " << web_->Log();
+    return "";
+  }
+
+  std::unique_ptr<Process> web_;
+};
+
+TEST_F(SkillwebTest, PageFollowsTheStateTopicRunsASkillAndDamps) {
+  StartServer();
+  const auto client = Connect();
+  StateRecorder recorder(*client);
+  const std::string url = StartSkillweb();
+  ASSERT_FALSE(url.empty());
+
+  // SKILLWEB_SCREENSHOT=path: the page while the skill runs, as docs/skillweb.png was taken.
+  std::vector<std::string> args = {FLSD_SOURCE_DIR "/tests/client/web/drive_page.cjs", url, FLSD_CHROMIUM};
+  if (const char* shot = std::getenv("SKILLWEB_SCREENSHOT")) args.push_back(shot);
+  setenv("NODE_PATH", FLSD_NODE_MODULES, 1);
+  const auto [code, output] = RunProgram(FLSD_NODE, args, UniqueTempPath("drive_page.log"), std::chrono::seconds(120));
+  ASSERT_EQ(code, 0) << output << "\nskillweb: " << web_->Log() << "\nskilld: " << server_->Log();
+  const nlohmann::json seen = nlohmann::json::parse(output.substr(output.rfind("\n{") + 1));
+
+  EXPECT_TRUE(seen["console_errors"].empty()) << seen["console_errors"].dump(1);
+  EXPECT_FALSE(seen["phone"]["overflow"].get<bool>()) << "the page is wider than a phone's screen";
+  EXPECT_TRUE(seen["phone"]["estop_visible"].get<bool>());
+
+  // The scene's joints are the state topic's angles of the tick it says it shows, and they moved
+  // while the robot stood up.
+  int matched = 0;
+  double moved = 0.0;
+  const auto& samples = seen["samples"];
+  for (const auto& sample : samples) {
+    const std::optional<StateReport> state = recorder.At(sample["tick"].get<uint64_t>());
+    if (!state) continue;  // a sample this test's reader did not get
+    ++matched;
+    for (int j = 0; j < 12; ++j) {
+      EXPECT_NEAR(sample["joints"][j].get<double>(), state->joint_position[j], 1e-9) << "tick " << sample["tick"];
+    }
+  }
+  for (int j = 0; j < 12; ++j) {
+    moved = std::max(moved, std::abs(samples.back()["joints"][j].get<double>() - samples.front()["joints"][j].get<double>()));
+  }
+  EXPECT_GE(matched, static_cast<int>(samples.size()) / 2);
+  EXPECT_GT(moved, 0.05) << "the scene's joints did not follow the robot standing up";
+
+  // The skill started from the page walked the simulated robot.
+  const auto from = recorder.AtOrBefore(seen["skill"]["from_tick"].get<uint64_t>());
+  const auto to = recorder.AtOrBefore(seen["skill"]["to_tick"].get<uint64_t>());
+  ASSERT_TRUE(from && to);
+  EXPECT_EQ(to->mode, Mode::kSkill);
+  EXPECT_EQ(to->skill, seen["skill"]["id"].get<int>());
+  EXPECT_GT(std::hypot(to->position[0] - from->position[0], to->position[1] - from->position[1]), 0.1)
+      << "from (" << from->position[0] << ", " << from->position[1] << ") at tick " << from->tick;
+
+  // The page's emergency stop damps the robot, and it stays damped.
+  const std::optional<StateReport> now = client->NextState(seen["damp"]["tick"].get<uint64_t>(), std::chrono::seconds(2));
+  ASSERT_TRUE(now);
+  EXPECT_EQ(now->mode, Mode::kDamp) << seen["damp"]["reply"];
+}
+
+}  // namespace
+}  // namespace flsd

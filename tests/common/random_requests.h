@@ -21,17 +21,17 @@
 
 namespace flsd::testutil {
 
+// One of `options`, at random.
+template <class C>
+const auto& PickOne(std::mt19937_64& rng, const C& options) {
+  return options[rng() % std::size(options)];
+}
+
 class RandomRequests {
  public:
   RandomRequests(uint64_t seed, std::vector<std::string> clients) : rng_(seed), clients_(std::move(clients)) {
     bomb_ = "polygons:\n  - &p [[0, 0], [1, 0], [1, 1], [0, 1]]\n";
     for (int i = 0; i < 2000; ++i) bomb_ += "  - *p\n";
-  }
-
-  // One of `options`, at random.
-  template <class C>
-  const auto& Pick(const C& options) {
-    return options[rng_() % std::size(options)];
   }
 
   RawRequest Next() {
@@ -45,20 +45,20 @@ class RandomRequests {
                                 "{{{", std::string(4000, '[') + std::string(4000, ']'), bomb_,
                                 "bounds: [-.nan, 1, 0, 1]", "circles: [{center: *x, radius: 1}]", "robot_radius: 1e400"};
     RawRequest r;
-    r.client_id = Pick(clients_);
+    r.client_id = PickOne(rng_, clients_);
     // Mostly growing ids, sometimes a repeat or an older one.
     uint64_t& last = last_id_[r.client_id];
     r.request_id = rng_() % 10 == 0 ? last : last + 1 + rng_() % 3;
     last = std::max(last, r.request_id);
-    r.deadline_ns = Pick(kDeadlines);
+    r.deadline_ns = PickOne(rng_, kDeadlines);
     if (r.deadline_ns == 1) r.deadline_ns = dds_time() + 1'000'000'000;
-    r.call = Pick(kCalls);
+    r.call = PickOne(rng_, kCalls);
     r.skill = static_cast<int32_t>(rng_() % 40) - 5;
     if (rng_() % 10 == 0) r.skill = rng_() % 2 ? INT32_MIN : INT32_MAX;
-    r.duration = rng_() % 3 ? 0.2 + 0.1 * (rng_() % 10) : Pick(kNumbers);
-    for (double& v : r.velocity) v = Pick(kNumbers);
-    for (double& g : r.goal) g = rng_() % 2 ? 0.5 : Pick(kNumbers);
-    r.map_yaml = Pick(maps);
+    r.duration = rng_() % 3 ? 0.2 + 0.1 * (rng_() % 10) : PickOne(rng_, kNumbers);
+    for (double& v : r.velocity) v = PickOne(rng_, kNumbers);
+    for (double& g : r.goal) g = rng_() % 2 ? 0.5 : PickOne(rng_, kNumbers);
+    r.map_yaml = PickOne(rng_, maps);
     return r;
   }
 

@@ -6,10 +6,11 @@
 
 namespace flsd {
 
-ActorCriticImpl::ActorCriticImpl(int actor_inputs, int critic_inputs, int actions, const PolicyConfig& config)
+ActorCriticImpl::ActorCriticImpl(int actor_inputs, int critic_inputs, int actions, const PolicyConfig& config,
+                                 int value_streams)
     : actions_(actions) {
   actor_ = register_module("actor", MakeMlp(actor_inputs, config.actor_hidden, actions));
-  critic_ = register_module("critic", MakeMlp(critic_inputs, config.critic_hidden, 1));
+  critic_ = register_module("critic", MakeMlp(critic_inputs, config.critic_hidden, value_streams));
   log_std_ = register_parameter("log_std", torch::full({actions}, std::log(config.init_std)));
 }
 
@@ -40,9 +41,9 @@ torch::Tensor ActorCriticImpl::Sample(const torch::Tensor& distribution) const {
 }
 
 CategoricalActorCriticImpl::CategoricalActorCriticImpl(int actor_inputs, int critic_inputs, int choices,
-                                                       const PolicyConfig& config) {
+                                                       const PolicyConfig& config, int value_streams) {
   actor_ = register_module("actor", MakeMlp(actor_inputs, config.actor_hidden, choices));
-  critic_ = register_module("critic", MakeMlp(critic_inputs, config.critic_hidden, 1));
+  critic_ = register_module("critic", MakeMlp(critic_inputs, config.critic_hidden, value_streams));
 }
 
 torch::Tensor CategoricalActorCriticImpl::LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const {

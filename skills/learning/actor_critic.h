@@ -19,6 +19,9 @@ struct PolicyConfig {
   }
 };
 
+// A critic's output [B, S] as Value returns it: [B] for one stream.
+inline torch::Tensor StreamValues(const torch::Tensor& out) { return out.size(-1) == 1 ? out.squeeze(-1) : out; }
+
 // What PPO needs of an actor-critic, whatever its action distribution. A distribution is passed
 // around as one tensor of parameters per sample (what the rollout keeps of the collecting policy),
 // so that PPO can compare the collecting and the updated policy without knowing their kind.
@@ -26,7 +29,8 @@ class PpoPolicyImpl : public torch::nn::Module {
  public:
   // The action distribution's parameters for each row of obs [B, ...]: [B, P].
   virtual torch::Tensor Distribution(const torch::Tensor& obs) = 0;
-  virtual torch::Tensor Value(const torch::Tensor& critic_obs) = 0;  // [B]
+  // [B], or [B, S] for a critic of S > 1 value streams (one per reward stream).
+  virtual torch::Tensor Value(const torch::Tensor& critic_obs) = 0;
   // Per sample: log density of `actions`, entropy, and KL(old || new).
   virtual torch::Tensor LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const = 0;
   virtual torch::Tensor Entropy(const torch::Tensor& distribution) const = 0;
@@ -39,13 +43,14 @@ class PpoPolicyImpl : public torch::nn::Module {
 // Its distribution tensor is [mean (A), std (A)].
 class ActorCriticImpl : public PpoPolicyImpl {
  public:
-  ActorCriticImpl(int actor_inputs, int critic_inputs, int actions, const PolicyConfig& config);
+  ActorCriticImpl(int actor_inputs, int critic_inputs, int actions, const PolicyConfig& config,
+                  int value_streams = 1);
 
   torch::Tensor ActionMean(const torch::Tensor& obs) { return actor_->forward(obs); }
   torch::Tensor Std() const { return log_std_.exp(); }
 
   torch::Tensor Distribution(const torch::Tensor& obs) override;
-  torch::Tensor Value(const torch::Tensor& critic_obs) override { return critic_->forward(critic_obs).squeeze(-1); }
+  torch::Tensor Value(const torch::Tensor& critic_obs) override { return StreamValues(critic_->forward(critic_obs)); }
   torch::Tensor LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const override;
   torch::Tensor Entropy(const torch::Tensor& distribution) const override;
   torch::Tensor Kl(const torch::Tensor& old_distribution, const torch::Tensor& distribution) const override;
@@ -64,10 +69,11 @@ TORCH_MODULE(ActorCritic);
 // logits, its action the chosen index as a float column [B, 1].
 class CategoricalActorCriticImpl : public PpoPolicyImpl {
  public:
-  CategoricalActorCriticImpl(int actor_inputs, int critic_inputs, int choices, const PolicyConfig& config);
+  CategoricalActorCriticImpl(int actor_inputs, int critic_inputs, int choices, const PolicyConfig& config,
+                             int value_streams = 1);
 
   torch::Tensor Distribution(const torch::Tensor& obs) override { return actor_->forward(obs); }
-  torch::Tensor Value(const torch::Tensor& critic_obs) override { return critic_->forward(critic_obs).squeeze(-1); }
+  torch::Tensor Value(const torch::Tensor& critic_obs) override { return StreamValues(critic_->forward(critic_obs)); }
   torch::Tensor LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const override;
   torch::Tensor Entropy(const torch::Tensor& distribution) const override;
   torch::Tensor Kl(const torch::Tensor& old_distribution, const torch::Tensor& distribution) const override;

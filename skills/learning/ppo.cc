@@ -10,36 +10,47 @@ torch::Tensor Flat(const torch::Tensor& x) {
   return x.dim() == 2 ? x.reshape({-1}) : x.reshape({-1, x.size(-1)});
 }
 
-}  // namespace
-
-Returns ComputeReturns(const Rollout& r, const torch::Tensor& last_values, double gamma, double lambda,
-                       const Communicator& comm) {
-  torch::NoGradGuard no_grad;
-  const int64_t steps = r.rewards.size(0);
-  const torch::Tensor rewards = r.rewards + gamma * r.values * r.timeouts;
-  Returns out;
-  out.returns = torch::empty_like(rewards);
-  torch::Tensor advantage = torch::zeros_like(last_values);
-  torch::Tensor next_value = last_values;
-  for (int64_t t = steps - 1; t >= 0; --t) {
-    const torch::Tensor not_done = 1.0 - r.dones[t];
-    const torch::Tensor delta = rewards[t] + gamma * next_value * not_done - r.values[t];
-    advantage = delta + gamma * lambda * not_done * advantage;
-    out.returns[t] = advantage + r.values[t];
-    next_value = r.values[t];
-  }
-  const torch::Tensor raw = out.returns - r.values;
-  if (comm.size() == 1) {
-    out.advantages = (raw - raw.mean()) / (raw.std() + 1e-8);
-    return out;
-  }
+// (raw - mean) / std over every rank's samples.
+torch::Tensor Normalized(const torch::Tensor& raw, const Communicator& comm) {
+  if (comm.size() == 1) return (raw - raw.mean()) / (raw.std() + 1e-8);
   // Mean and (unbiased) std over all ranks' transitions, from their sums.
   double moments[3] = {static_cast<double>(raw.numel()), raw.sum().item<double>(),
                        raw.to(torch::kFloat64).pow(2).sum().item<double>()};
   comm.Sum(moments, 3);
   const double mean = moments[1] / moments[0];
   const double std = std::sqrt(std::max(0.0, (moments[2] - moments[0] * mean * mean) / (moments[0] - 1.0)));
-  out.advantages = (raw - mean) / (std + 1e-8);
+  return (raw - mean) / (std + 1e-8);
+}
+
+}  // namespace
+
+Returns ComputeReturns(const Rollout& r, const torch::Tensor& last_values, double gamma, double lambda,
+                       const Communicator& comm) {
+  torch::NoGradGuard no_grad;
+  const int64_t steps = r.rewards.size(0);
+  const bool streams = r.values.dim() == 3;  // [T, N, S]: one return per reward stream
+  const torch::Tensor dones = streams ? r.dones.unsqueeze(-1) : r.dones;
+  const torch::Tensor rewards = r.rewards + gamma * r.values * (streams ? r.timeouts.unsqueeze(-1) : r.timeouts);
+  Returns out;
+  out.returns = torch::empty_like(rewards);
+  torch::Tensor advantage = torch::zeros_like(last_values);
+  torch::Tensor next_value = last_values;
+  for (int64_t t = steps - 1; t >= 0; --t) {
+    const torch::Tensor not_done = 1.0 - dones[t];
+    const torch::Tensor delta = rewards[t] + gamma * next_value * not_done - r.values[t];
+    advantage = delta + gamma * lambda * not_done * advantage;
+    out.returns[t] = advantage + r.values[t];
+    next_value = r.values[t];
+  }
+  const torch::Tensor raw = out.returns - r.values;
+  if (!streams) {
+    out.advantages = Normalized(raw, comm);
+    return out;
+  }
+  // Each stream's advantages normalised on their own, then summed (ETH D3's multi-critic PPO): a
+  // stream of large penalties cannot drown a stream of small rewards, nor a clip erase it.
+  out.advantages = torch::zeros_like(raw.select(2, 0));
+  for (int64_t s = 0; s < raw.size(2); ++s) out.advantages += Normalized(raw.select(2, s), comm);
   return out;
 }
 

@@ -46,9 +46,9 @@ struct Rollout {
   torch::Tensor critic_obs;  // critic observations
   torch::Tensor actions;
   torch::Tensor log_probs;      // [T, N]
-  torch::Tensor values;         // [T, N]
+  torch::Tensor values;         // [T, N], or [T, N, S] for S reward streams
   torch::Tensor distributions;  // [T, N, P], the collecting policy's (PpoPolicyImpl::Distribution)
-  torch::Tensor rewards;     // [T, N]
+  torch::Tensor rewards;     // [T, N], or [T, N, S] for S reward streams
   torch::Tensor dones;       // [T, N], 1 where the episode ended after step t (time-outs too)
   torch::Tensor timeouts;    // [T, N], 1 where it ended by time-out
 };
@@ -62,13 +62,15 @@ struct MirroredSamples {
 };
 
 struct Returns {
-  torch::Tensor returns;     // [T, N]
-  torch::Tensor advantages;  // [T, N], normalised over the batch
+  torch::Tensor returns;     // as the rollout's values
+  torch::Tensor advantages;  // [T, N], normalised over the batch (each stream's, then summed)
 };
 
 // GAE(lambda) returns and advantages; last_values [N] are V of the observations after the last
 // step. On a time-out, gamma V(s_t) is added to r_t, as rsl_rl does, since the episode did not
-// really end there. Advantages are normalised over the batch of every rank in `comm`.
+// really end there. Advantages are normalised over the batch of every rank in `comm`; with S
+// reward streams (values and rewards [T, N, S], last_values [N, S]) each stream's are normalised
+// on its own and the S are summed.
 Returns ComputeReturns(const Rollout& rollout, const torch::Tensor& last_values, double gamma, double lambda,
                        const Communicator& comm = Communicator::Self());
 

@@ -71,9 +71,11 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
       steps_(config.steps_per_env),
       obs_size_(TaskPolicyObsSize(method_)),
       task_(config.env, config.task, config.num_envs, config.seed, ResolveThreadCount(config.num_threads)),
-      scratch_(method_ == TaskMethod::kScratch ? ActorCritic(obs_size_, obs_size_, kActionSize, config.policy)
-                                               : ActorCritic(nullptr)),
-      selector_(library_ ? CategoricalActorCritic(obs_size_, obs_size_, library_->num_skills(), config.policy)
+      streams_(config.value_streams()),
+      scratch_(method_ == TaskMethod::kScratch
+                   ? ActorCritic(obs_size_, obs_size_, kActionSize, config.policy, streams_)
+                   : ActorCritic(nullptr)),
+      selector_(library_ ? CategoricalActorCritic(obs_size_, obs_size_, library_->num_skills(), config.policy, streams_)
                          : CategoricalActorCritic(nullptr)),
       policy_(library_ ? std::shared_ptr<PpoPolicyImpl>(selector_.ptr()) : std::shared_ptr<PpoPolicyImpl>(scratch_.ptr())),
       normalizer_(obs_size_),
@@ -107,8 +109,8 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
   rollout_.actions = torch::zeros({t, n, action_size}, f);
   rollout_.distributions = torch::zeros({t, n, distribution_size}, f);
   rollout_.log_probs = torch::zeros({t, n}, f);
-  rollout_.values = torch::zeros({t, n}, f);
-  rollout_.rewards = torch::zeros({t, n}, f);
+  rollout_.values = streams_ > 1 ? torch::zeros({t, n, streams_}, f) : torch::zeros({t, n}, f);
+  rollout_.rewards = torch::zeros_like(rollout_.values);
   rollout_.dones = torch::zeros({t, n}, f);
   rollout_.timeouts = torch::zeros({t, n}, f);
   raw_obs_ = torch::zeros({n, obs_size_}, f);
@@ -171,7 +173,7 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
     float* rewards = rollout_.rewards[t].data_ptr<float>();
     float* dones = rollout_.dones[t].data_ptr<float>();
     float* timeouts = rollout_.timeouts[t].data_ptr<float>();
-    std::fill(rewards, rewards + num_envs_, 0.0f);
+    std::fill(rewards, rewards + num_envs_ * streams_, 0.0f);
     std::fill(dones, dones + num_envs_, 0.0f);
     std::fill(timeouts, timeouts + num_envs_, 0.0f);
     std::fill(ended_.begin(), ended_.end(), 0);
@@ -181,7 +183,7 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
         const int chosen = static_cast<int>(choice[i]);
         if (last_choice_[i] >= 0 && chosen != last_choice_[i]) {
           ++switches;
-          rewards[i] += static_cast<float>(config_.switch_penalty * a1::kControlDt);
+          rewards[i * streams_ + streams_ - 1] += static_cast<float>(config_.switch_penalty * a1::kControlDt);
         }
         last_choice_[i] = chosen;
       }
@@ -193,7 +195,16 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
         const Termination ending = task_.vec_env().termination()[i];
         const VelocityRewardTerms& terms = task_.terms(i);
         const float reward = task_.rewards()[i];
-        if (!ended_[i]) rewards[i] += reward;
+        if (!ended_[i]) {
+          if (streams_ == 1) {
+            rewards[i] += reward;
+          } else {  // tracking, and the rest, unclipped
+            const VelocityRewardTerms scaled = Scaled(terms, config_.task.reward);
+            const double tracking = scaled.tracking_lin_vel + scaled.tracking_ang_vel;
+            rewards[i * streams_] += static_cast<float>(tracking * a1::kControlDt);
+            rewards[i * streams_ + 1] += static_cast<float>((scaled.total - tracking) * a1::kControlDt);
+          }
+        }
         reward_sum += reward;
         zero_rewards += reward == 0.0f;
         lin_sum += terms.tracking_lin_vel;
@@ -334,7 +345,7 @@ TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skill
   torch::serialize::InputArchive archive = OpenCheckpoint(checkpoint);
   TrainedSelector out;
   const int obs = TaskPolicyObsSize(TaskMethod::kSelector);
-  out.policy = CategoricalActorCritic(obs, obs, num_skills, config.policy);
+  out.policy = CategoricalActorCritic(obs, obs, num_skills, config.policy, config.value_streams());
   out.normalizer = RunningNormalizer(obs);
   try {
     ReadModule(archive, "policy", *out.policy);

@@ -40,6 +40,13 @@ struct TaskTrainConfig {
   // Train on every rollout's left-right mirror image too (robot/mirror.h): o^c mirrored, the
   // chosen skill's mirror image (the library's pairing) or the mirrored joint action.
   bool mirror = false;
+  // legged_gym clips each step's reward at zero (only_positive_rewards); over skills whose
+  // penalties exceed their tracking reward that leaves every step at zero and nothing to learn
+  // from. With two streams the tracking terms and the rest (penalties, air time, the switch
+  // penalty) each have a value head and advantages normalised on their own (ETH D3's multi-critic
+  // PPO), unclipped; the logged reward stays legged_gym's clipped one, for comparison.
+  bool reward_streams = false;
+  int value_streams() const { return reward_streams ? 2 : 1; }
   int iterations = 500;
   int checkpoint_every = 25;
   EnvConfig env;
@@ -57,6 +64,7 @@ struct TaskTrainConfig {
     v("decision_interval", decision_interval, Bounds<int>{1, 1000});
     v("switch_penalty", switch_penalty, Bounds<double>{-1e3, 0.0});
     v("mirror", mirror);
+    v("reward_streams", reward_streams);
     v("iterations", iterations, Bounds<int>{1, 100000000});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("env", env);
@@ -134,6 +142,7 @@ class TaskTrainer {
   std::optional<SkillLibrary> library_;
   int num_envs_, steps_, obs_size_;
   VelocityTask task_;
+  int streams_;  // reward streams: 1, or 2 (tracking, and the rest)
   ActorCritic scratch_{nullptr};
   CategoricalActorCritic selector_{nullptr};
   std::shared_ptr<PpoPolicyImpl> policy_;

@@ -67,6 +67,27 @@ TEST(ComputeReturns, AdvantagesAreNormalisedOverTheBatch) {
   EXPECT_TRUE(torch::allclose(out.advantages, (raw - raw.mean()) / raw.std(), 1e-5, 1e-5));
 }
 
+// With reward streams ([T, N, S]) each stream's returns are its own GAE, and the advantages are
+// each stream's normalised advantages, summed: a stream 1000 times larger weighs no more.
+TEST(ComputeReturns, StreamsAreNormalisedEachOnItsOwnThenSummed) {
+  const Rollout first = HandRollout();
+  Rollout second = HandRollout();
+  second.rewards = -1000.0f * second.rewards.flip(0);
+  second.values = 10.0f * second.values;
+  const torch::Tensor second_last = torch::tensor({-50.0f, 3.0f});
+  Rollout both = HandRollout();
+  both.rewards = torch::stack({first.rewards, second.rewards}, 2);
+  both.values = torch::stack({first.values, second.values}, 2);
+  const Returns out = ComputeReturns(both, torch::stack({LastValues(), second_last}, 1), kGamma, kLambda);
+  const Returns one = ComputeReturns(first, LastValues(), kGamma, kLambda);
+  const Returns two = ComputeReturns(second, second_last, kGamma, kLambda);
+  ASSERT_EQ(out.returns.sizes(), both.rewards.sizes());
+  EXPECT_TRUE(torch::allclose(out.returns.select(2, 0), one.returns, 1e-5, 1e-5));
+  EXPECT_TRUE(torch::allclose(out.returns.select(2, 1), two.returns, 1e-3, 1e-5));
+  ASSERT_EQ(out.advantages.sizes(), first.rewards.sizes());
+  EXPECT_TRUE(torch::allclose(out.advantages, one.advantages + two.advantages, 1e-5, 1e-5));
+}
+
 ActorCritic TinyPolicy(int obs, int actions) {
   PolicyConfig config;
   config.actor_hidden = {16};
@@ -222,6 +243,42 @@ TEST(Ppo, CategoricalPolicyLearnsTheBandit) {
   }
   EXPECT_LT(first_reward, 0.35);
   EXPECT_GT(last_reward, 0.9);
+}
+
+// legged_gym's selector problem in miniature: choice 3 earns 1 and every step costs 2 whatever
+// the choice. Clipped at zero each step, every reward is 0 and nothing is learned; as two
+// streams (the earning, and the cost) with their own value heads, choice 3 is learned.
+TEST(Ppo, RewardStreamsLearnWhatAPerStepClipAtZeroErases) {
+  PolicyConfig config;
+  config.actor_hidden = {16};
+  config.critic_hidden = {16};
+  const torch::Tensor obs = torch::randn({8, 32, 4});
+  auto choice3 = [](const torch::Tensor& actions) { return (actions.select(2, 0) == 3).to(torch::kFloat32); };
+  auto share_of_choice3 = [&](CategoricalActorCritic& policy) {
+    torch::NoGradGuard no_grad;
+    return torch::softmax(policy->Distribution(obs), -1).select(2, 3).mean().item<double>();
+  };
+  for (const bool streams : {false, true}) {
+    torch::manual_seed(6);
+    CategoricalActorCritic policy(4, 4, 5, config, streams ? 2 : 1);
+    Ppo ppo(policy.ptr(), PpoConfig{});
+    for (int update = 0; update < 30; ++update) {
+      Rollout r = BanditRollout(*policy, obs, choice3);
+      const torch::Tensor earned = r.rewards, cost = torch::full_like(earned, -2.0f);
+      {
+        torch::NoGradGuard no_grad;
+        r.values = policy->Value(obs);
+      }
+      r.rewards = streams ? torch::stack({earned, cost}, 2) : torch::clamp_min(earned + cost, 0.0f);
+      const torch::Tensor last = streams ? torch::zeros({32, 2}) : torch::zeros({32});
+      ASSERT_TRUE(ppo.Update(r, ComputeReturns(r, last, 0.99, 0.95)).finite);
+    }
+    if (streams) {
+      EXPECT_GT(share_of_choice3(policy), 0.9);
+    } else {
+      EXPECT_LT(share_of_choice3(policy), 0.35);  // where it started, about 1/5
+    }
+  }
 }
 
 // A NaN in the network makes the loss NaN: the update reports it and leaves the weights alone.

@@ -139,6 +139,15 @@ bool Client::WaitForServer(std::chrono::milliseconds timeout) {
 
 CallResult Client::Call(const std::string& call, const CallArgs& args, std::chrono::milliseconds timeout) {
   std::lock_guard<std::mutex> lock(call_mutex_);
+  CallResult result = Send(call, args, timeout);
+  if (!unreported_safety_.empty()) {
+    result.safety_report = unreported_safety_ + (result.safety_report.empty() ? "" : "; " + result.safety_report);
+    unreported_safety_.clear();
+  }
+  return result;
+}
+
+CallResult Client::Send(const std::string& call, const CallArgs& args, std::chrono::milliseconds timeout) {
   const uint64_t request_id = ++next_request_id_;
   flsd_msgs_Request request{};
   request.header.client_id = const_cast<char*>(id_.c_str());
@@ -359,7 +368,12 @@ void Client::Background() {
     if (in_control_ && now >= next_heartbeat) {
       next_heartbeat = now + options_.heartbeat;
       // A slow or late heartbeat is not a lost lease; only the server saying so is.
-      const CallResult r = Call(dds::CallName(dds::Call::kRenewControl), {}, kHeartbeatTimeout);
+      std::unique_lock<std::mutex> lock(call_mutex_);
+      const CallResult r = Send(dds::CallName(dds::Call::kRenewControl), {}, kHeartbeatTimeout);
+      if (!r.safety_report.empty()) {
+        unreported_safety_ += (unreported_safety_.empty() ? "" : "; ") + r.safety_report;
+      }
+      lock.unlock();
       if (r.answered && r.status == flsd_msgs_STATUS_NOT_IN_CONTROL) {
         lost_control_ = true;
         in_control_ = false;

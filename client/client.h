@@ -124,6 +124,8 @@ class Client {
 
  private:
   void Background();
+  // One call, call_mutex_ held.
+  CallResult Send(const std::string& call, const CallArgs& args, std::chrono::milliseconds timeout);
   static void OnReplies(dds_entity_t reader, void* self);
   void TakeReplies(dds_entity_t reader);
   Reply Simple(dds::Call call, std::chrono::milliseconds timeout);
@@ -134,6 +136,9 @@ class Client {
   std::string id_;
   Options options_;
   std::mutex call_mutex_;  // one call in flight: replies are matched by request id
+  // The server reports a safety trip once, in the next reply to this client: one that came with
+  // a lease heartbeat is handed to the user's next call (call_mutex_ held).
+  std::string unreported_safety_;
   uint64_t next_request_id_ = 0;
   // The call in flight, completed by the reply listener on Cyclone's receive thread.
   std::mutex reply_mutex_;

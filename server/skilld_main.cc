@@ -81,8 +81,10 @@ int main(int argc, char** argv) {
     controller.SubmitUrgent(damp);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a few ticks of damping
     loop.Stop();
-    spdlog::info("skilld stopped after {} ticks, {} deadline misses, {} replies", controller.status().tick,
-                 loop.deadline_misses(), service.replies_sent());
+    spdlog::info("skilld stopped after {} ticks, {} deadline misses, {} replies; tick lateness p50 {:.2f} ms, "
+                 "p99 {:.2f} ms, worst {:.2f} ms", controller.status().tick, loop.deadline_misses(),
+                 service.replies_sent(), loop.LatenessQuantile(0.5) * 1e3, loop.LatenessQuantile(0.99) * 1e3,
+                 loop.worst_lateness() * 1e3);
     return 0;
   } catch (const flsd::InputError& e) {
     spdlog::error("{}", e.what());

@@ -28,7 +28,10 @@ void StateFeed::Follow() {
       continue;
     }
     tick = state->tick;
-    std::string event = "data: " + ToJson(*state).dump() + "\n\n";
+    nlohmann::json sample = ToJson(*state);
+    // When skillweb had the sample, wall clock in ms: the page shows the stream's delay from it.
+    sample["received"] = std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
+    std::string event = "data: " + sample.dump() + "\n\n";
     {
       std::lock_guard<std::mutex> lock(mutex_);
       event_ = std::move(event);

@@ -79,8 +79,8 @@ async function start() {
   const axes = [['vx', '#dc2626'], ['vy', '#16a34a'], ['wz', '#2563eb']];
   const velocity = new RollingPlot($('velocity-plot'), { colors: axes.map(([, c]) => c), legend: axes });
   const joints = new RollingPlot($('joint-plot'), { colors: info.joint_names.map((_, i) => LEGS[Math.floor(i / 3)][1]), legend: LEGS });
-  const page = { view, info, state: null, received: 0 };
-  window.skillweb = page;  // for the browser tests: the scene and the newest sample
+  const page = { view, info, state: null, received: 0, delays: [] };
+  window.skillweb = page;  // for the browser tests and the benchmark: the scene, the newest sample, delays
 
   $('damp').onclick = () => call('damp');
   for (const name of ['stand', 'stop', 'reset', 'clear_stop', 'release_control']) $(name).onclick = () => call(name);
@@ -99,11 +99,14 @@ async function start() {
     const s = JSON.parse(e.data);
     page.state = s;
     page.received += 1;
+    // From skillweb having the sample to the page having it (one clock: skillweb on this machine).
+    page.delays.push(performance.timeOrigin + performance.now() - s.received);
+    if (page.delays.length > 5000) page.delays.shift();
     view.show(s, info.joint_names);
     map.update(s);
     velocity.add(s.time, [s.linear_velocity[0], s.linear_velocity[1], s.angular_velocity[2]]);
     joints.add(s.time, s.joint_position);
-    $('link').textContent = 'live';
+    $('link').textContent = `live ${page.delays[page.delays.length - 1].toFixed(1)} ms`;
     $('link').className = 'badge on';
   };
   events.onerror = () => {

@@ -232,8 +232,9 @@ void HwBackend::Run() {
     FaultCode fault = FaultCode::kNone;
     if (command_lost) fault = FaultCode::kNoCommand;
     else if (Seconds(now - last_valid) > config_.stale_after) fault = FaultCode::kStale;
-    else if (imu_frozen.Outlasts(config_.frozen_after, now)) fault = FaultCode::kFrozenImu;
-    else if (joints_frozen.Outlasts(config_.frozen_after, now)) fault = FaultCode::kFrozenJoints;
+    // A freeze is what valid frames show, up to the last of them: without frames it is a stale state.
+    else if (imu_frozen.Outlasts(config_.frozen_after, last_valid)) fault = FaultCode::kFrozenImu;
+    else if (joints_frozen.Outlasts(config_.frozen_after, last_valid)) fault = FaultCode::kFrozenJoints;
     else if (mode_bad && Seconds(now - mode_bad_since) > config_.motor_mode_after) fault = FaultCode::kMotorMode;
     fault_.store(static_cast<int>(fault), std::memory_order_relaxed);
     cycles_.fetch_add(1, std::memory_order_relaxed);

@@ -2,7 +2,7 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: deps configure build test demo bench clean
+.PHONY: deps configure build test demo serve bench clean
 
 deps:
 	@bash scripts/install_deps.sh
@@ -19,6 +19,12 @@ test: build
 
 demo: build
 	@BIN_DIR=$(BUILD_DIR)/bin bash scripts/demo.sh
+
+# skilld with the simulated A1 and the shipped skills on loopback (domain 0, partition flsd: the
+# defaults of skillctl, skillweb and the examples) until Ctrl-C.
+serve: build
+	@CYCLONEDDS_URI=$${CYCLONEDDS_URI:-file://$(CURDIR)/configs/cyclonedds_loopback.xml} \
+	  $(BUILD_DIR)/bin/skilld --backend sim --library models/a1_flsd.safetensors
 
 bench: build
 	@$(BUILD_DIR)/bin/flsd bench sim --json

@@ -1,37 +1,18 @@
 // skillweb's HTTP server over a real socket, and the routes' checks that need no skilld: which
 // requests are refused before anything reaches the robot.
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include "client/web/http_server.h"
 #include "client/web/web_app.h"
+#include "tests/client/web/http_exchange.h"
 #include "tests/common/dds_support.h"
 #include "tests/common/test_support.h"
 
 namespace flsd::web {
 namespace {
 
-// Sends `request` to 127.0.0.1:port and returns everything the server sends back.
-std::string Exchange(int port, const std::string& request) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  EXPECT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)), 0);
-  // A refused request may be cut short by the server: no SIGPIPE, and what came back counts.
-  (void)send(fd, request.data(), request.size(), MSG_NOSIGNAL);
-  std::string reply;
-  char buffer[4096];
-  for (ssize_t n; (n = recv(fd, buffer, sizeof(buffer), 0)) > 0;) reply.append(buffer, static_cast<std::size_t>(n));
-  close(fd);
-  return reply;
-}
+using testutil::HttpExchange;
 
 TEST(HttpRequestTest, ParsesTheRequestLineAndHeaders) {
   HttpRequest r;
@@ -60,12 +41,12 @@ TEST(HttpServerTest, AnswersAndStreamsOverASocket) {
     return HttpResponse::Json(200, "{\"body\":\"" + r.body + "\"}");
   });
   ASSERT_GT(server.port(), 0);
-  const std::string reply = Exchange(server.port(), "POST /x HTTP/1.1\r\nHost: a\r\nContent-Length: 5\r\n\r\nhello");
+  const std::string reply = HttpExchange(server.port(), "POST /x HTTP/1.1\r\nHost: a\r\nContent-Length: 5\r\n\r\nhello");
   EXPECT_EQ(reply.rfind("HTTP/1.1 200 OK\r\n", 0), 0u) << reply;
   EXPECT_NE(reply.find("Content-Length: 16\r\n"), std::string::npos) << reply;
   EXPECT_NE(reply.find("\r\n\r\n{\"body\":\"hello\"}"), std::string::npos) << reply;
 
-  const std::string stream = Exchange(server.port(), "GET /stream HTTP/1.1\r\nHost: a\r\n\r\n");
+  const std::string stream = HttpExchange(server.port(), "GET /stream HTTP/1.1\r\nHost: a\r\n\r\n");
   EXPECT_NE(stream.find("Content-Type: text/event-stream\r\n"), std::string::npos);
   EXPECT_NE(stream.find("\r\n\r\ndata: 0\n\ndata: 1\n\ndata: 2\n\n"), std::string::npos) << stream;
 }
@@ -76,11 +57,11 @@ TEST(HttpServerTest, RefusesMalformedAndOversizedRequests) {
     ++handled;
     return HttpResponse::Text(200, "ok");
   });
-  EXPECT_EQ(Exchange(server.port(), "hello\r\n\r\n").rfind("HTTP/1.1 400", 0), 0u);
+  EXPECT_EQ(HttpExchange(server.port(), "hello\r\n\r\n").rfind("HTTP/1.1 400", 0), 0u);
   const std::string big = "POST / HTTP/1.1\r\nContent-Length: " + std::to_string(HttpServer::kMaxBodyBytes + 1) + "\r\n\r\n";
-  EXPECT_EQ(Exchange(server.port(), big).rfind("HTTP/1.1 400", 0), 0u);
+  EXPECT_EQ(HttpExchange(server.port(), big).rfind("HTTP/1.1 400", 0), 0u);
   // Headers past the limit: the connection is dropped (the answer may be lost in the reset).
-  Exchange(server.port(), "GET / HTTP/1.1\r\n" + std::string(2 * HttpServer::kMaxHeaderBytes, 'x'));
+  HttpExchange(server.port(), "GET / HTTP/1.1\r\n" + std::string(2 * HttpServer::kMaxHeaderBytes, 'x'));
   EXPECT_EQ(handled, 0);
 }
 

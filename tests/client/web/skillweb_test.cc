@@ -9,18 +9,16 @@
 #include <fstream>
 #include <map>
 #include <mutex>
-#include <regex>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "tests/client/web/skillweb_process.h"
 #include "tests/common/client_skilld_fixture.h"
 
 namespace flsd {
 namespace {
 
-using testutil::BinaryPath;
-using testutil::Process;
 using testutil::RunProgram;
 using testutil::UniqueTempPath;
 
@@ -65,34 +63,15 @@ class StateRecorder {
   std::thread thread_;
 };
 
-class SkillwebTest : public testutil::ClientSkilldFixture {
- protected:
-  // Starts skillweb on any free port and returns its page's address.
-  std::string StartSkillweb() {
-    const std::string log = UniqueTempPath("skillweb.log");
-    web_ = std::make_unique<Process>(BinaryPath("skillweb"),
-                                     std::vector<std::string>{"--domain", std::to_string(domain_), "--partition",
-                                                              partition_, "--port", "0"},
-                                     log);
-    const std::regex address("http://127\\.0\\.0\\.1:[0-9]+/");
-    for (int i = 0; i < 100; ++i) {
-      std::smatch m;
-      const std::string text = web_->Log();
-      if (std::regex_search(text, m, address)) return m.str();
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    ADD_FAILURE() << "skillweb did not start: " << web_->Log();
-    return "";
-  }
-
-  std::unique_ptr<Process> web_;
-};
+class SkillwebTest : public testutil::ClientSkilldFixture {};
 
 TEST_F(SkillwebTest, PageFollowsTheStateTopicRunsASkillAndDamps) {
   StartServer();
   const auto client = Connect();
   StateRecorder recorder(*client);
-  const std::string url = StartSkillweb();
+  const testutil::Skillweb web = testutil::StartSkillweb(
+      {"--domain", std::to_string(domain_), "--partition", partition_}, UniqueTempPath("skillweb.log"));
+  const std::string& url = web.url;
   ASSERT_FALSE(url.empty());
 
   // SKILLWEB_SCREENSHOT=path: the page while the skill runs, as docs/skillweb.png was taken.
@@ -100,7 +79,7 @@ TEST_F(SkillwebTest, PageFollowsTheStateTopicRunsASkillAndDamps) {
   if (const char* shot = std::getenv("SKILLWEB_SCREENSHOT")) args.push_back(shot);
   setenv("NODE_PATH", FLSD_NODE_MODULES, 1);
   const auto [code, output] = RunProgram(FLSD_NODE, args, UniqueTempPath("drive_page.log"), std::chrono::seconds(120));
-  ASSERT_EQ(code, 0) << output << "\nskillweb: " << web_->Log() << "\nskilld: " << server_->Log();
+  ASSERT_EQ(code, 0) << output << "\nskillweb: " << web.process->Log() << "\nskilld: " << server_->Log();
   const nlohmann::json seen = nlohmann::json::parse(output.substr(output.rfind("\n{") + 1));
 
   EXPECT_TRUE(seen["console_errors"].empty()) << seen["console_errors"].dump(1);

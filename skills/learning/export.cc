@@ -10,6 +10,7 @@
 #include "skills/learning/run_loop.h"
 #include "skills/learning/task_trainer.h"
 #include "skills/learning/tracking_eval.h"
+#include "skills/runtime/library_format.h"
 #include "skills/runtime/safetensors.h"
 #include "skills/runtime/skill_library.h"
 
@@ -58,15 +59,26 @@ std::string ReadCommits(const std::string& path) {
 
 nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy, const Evaluation& evaluation,
                                     const Evaluation& randomized, const ExportProvenance& provenance) {
-  nlohmann::json motion = nlohmann::json::array();
-  for (const ObservationSegment& s : kMotionObsLayout) {
-    motion.push_back({{"name", s.name}, {"offset", s.offset}, {"size", s.size}, {"scale", s.scale}});
-  }
-  std::vector<double> joint_min, joint_max;
-  for (int j = 0; j < a1::kNumJoints; ++j) {
-    joint_min.push_back(a1::JointMin(j));
-    joint_max.push_back(a1::JointMax(j));
-  }
+  nlohmann::json metadata;
+  VisitLibraryFacts([&](const std::string& pointer, const auto& value) { metadata[nlohmann::json::json_pointer(pointer)] = value; },
+                    config.num_skills);
+  metadata["num_skills"] = config.num_skills;
+  metadata["action"]["filter_hz"] = config.env.action_filter_hz;
+  metadata["action"]["filter_order"] = config.env.action_filter_order;
+  metadata["policy"]["hidden"] = config.policy.actor_hidden;
+  metadata["policy"]["layers"] = config.policy.actor_hidden.size() + 1;
+  metadata["policy"]["normalizer_eps"] = RunningNormalizerImpl::kEps;
+  metadata["training"] = {{"method", config.method},
+                          {"iteration", policy.iteration},
+                          {"env_steps", policy.env_steps},
+                          {"config", ToYamlString(config)},
+                          {"run", provenance.run},
+                          {"commits", provenance.commits},
+                          {"export_commit", provenance.export_commit}};
+  nlohmann::json evaluation_json = EvaluationJson(evaluation);
+  evaluation_json.erase("skills");  // per skill, the descriptors below
+  metadata["evaluation"] = evaluation_json;
+  metadata["randomized_evaluation"] = EvaluationJson(randomized);
   nlohmann::json skills = nlohmann::json::array();
   const mirror::SkillPairing pairing = SkillPairingOf(config.num_skills, config.symmetry);
   for (const SkillSummary& s : evaluation.skills) {
@@ -83,48 +95,8 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
                       {"randomized_survival_steps", r.survival_steps},
                       {"randomized_fell", r.fell}});
   }
-  nlohmann::json evaluation_json = EvaluationJson(evaluation);
-  evaluation_json.erase("skills");  // per skill, the descriptors above
-  return {
-      {"format", kSkillLibraryFormat},
-      {"format_version", kSkillLibraryVersion},
-      {"robot", "unitree_a1"},
-      {"num_skills", config.num_skills},
-      {"joint_names", std::vector<std::string>(a1::kJointNames.begin(), a1::kJointNames.end())},
-      {"observation",
-       {{"motion", motion},
-        {"motion_size", kMotionObsSize},
-        {"policy", {{"motion", kMotionObsSize}, {"previous_action", kActionSize}, {"skill_onehot", config.num_skills}}},
-        {"policy_size", PolicyObservationSize(config.num_skills)},
-        {"normalized_size", policy.normalizer->size()}}},
-      {"action",
-       {{"size", kActionSize},
-        {"scale", a1::kActionScale},
-        {"clip", a1::kActionClip},
-        {"default_joint_positions", Vec(a1::kDefaultJointPos)},
-        {"filter_hz", config.env.action_filter_hz},
-        {"filter_order", config.env.action_filter_order}}},
-      {"control",
-       {{"kp", a1::kKp}, {"kd", a1::kKd}, {"control_dt", a1::kControlDt}, {"physics_dt", a1::kPhysicsDt},
-        {"decimation", a1::kDecimation}}},
-      {"limits",
-       {{"torque", a1::kTorqueLimit}, {"joint_velocity", a1::kJointVelocityLimit}, {"joint_min", joint_min},
-        {"joint_max", joint_max}}},
-      {"policy",
-       {{"hidden", config.policy.actor_hidden}, {"activation", "elu"}, {"layers", config.policy.actor_hidden.size() + 1},
-        {"normalizer_eps", RunningNormalizerImpl::kEps}}},
-      {"training",
-       {{"method", config.method},
-        {"iteration", policy.iteration},
-        {"env_steps", policy.env_steps},
-        {"config", ToYamlString(config)},
-        {"run", provenance.run},
-        {"commits", provenance.commits},
-        {"export_commit", provenance.export_commit}}},
-      {"evaluation", evaluation_json},
-      {"randomized_evaluation", EvaluationJson(randomized)},
-      {"skills", skills},
-  };
+  metadata["skills"] = skills;
+  return metadata;
 }
 
 void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const TrainedPolicy& policy,

@@ -12,8 +12,6 @@
 
 namespace flsd {
 
-inline constexpr const char* kSkillLibraryFormat = "flsd-skill-library";
-inline constexpr int kSkillLibraryVersion = 1;
 
 struct ExportProvenance {
   std::string run;          // run folder

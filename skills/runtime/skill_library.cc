@@ -10,13 +10,12 @@
 #include "robot/a1.h"
 #include "robot/observation.h"
 #include "robot/target_filter.h"
+#include "skills/runtime/library_format.h"
 #include "skills/runtime/safetensors.h"
 
 namespace flsd {
 namespace {
 
-constexpr const char* kFormat = "flsd-skill-library";
-constexpr int kVersion = 1;
 constexpr double kTolerance = 1e-9;
 
 // Checks fields of the metadata JSON, each failure naming the file and the field's path.
@@ -57,6 +56,19 @@ class MetadataChecker {
   void ExpectString(const std::string& pointer, const std::string& expected) const {
     const std::string got = Get<std::string>(pointer);
     if (got != expected) Fail(pointer, "is '" + got + "' but this build expects '" + expected + "'");
+  }
+  void Expect(const std::string& pointer, int expected) const { ExpectNumber(pointer, expected); }
+  void Expect(const std::string& pointer, double expected) const { ExpectNumber(pointer, expected); }
+  void Expect(const std::string& pointer, const std::vector<double>& expected) const { ExpectNumbers(pointer, expected); }
+  void Expect(const std::string& pointer, const std::string& expected) const { ExpectString(pointer, expected); }
+  void Expect(const std::string& pointer, const std::vector<std::string>& expected) const {
+    const std::vector<std::string> got = Get<std::vector<std::string>>(pointer);
+    if (got.size() != expected.size()) {
+      Fail(pointer, "has " + std::to_string(got.size()) + " entries; expected " + std::to_string(expected.size()));
+    }
+    for (size_t i = 0; i < got.size(); ++i) {
+      if (got[i] != expected[i]) Fail(pointer + "/" + std::to_string(i), "is '" + got[i] + "' but this build expects '" + expected[i] + "'");
+    }
   }
   bool Has(const std::string& pointer) const { return root_.contains(nlohmann::json::json_pointer(pointer)); }
   const std::string& path() const { return path_; }
@@ -138,14 +150,6 @@ std::vector<double> CommandScale() {
   return {kMotionObsLayout[0].scale, kMotionObsLayout[0].scale, kMotionObsLayout[1].scale};
 }
 
-std::vector<double> JointLimits(double (*limit)(int)) {
-  std::vector<double> out;
-  for (int j = 0; j < a1::kNumJoints; ++j) out.push_back(limit(j));
-  return out;
-}
-
-std::vector<double> DefaultPose() { return {a1::kDefaultJointPos.begin(), a1::kDefaultJointPos.end()}; }
-
 }  // namespace
 
 SkillLibrary SkillLibrary::Load(const std::string& path) {
@@ -154,8 +158,8 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   lib.path_ = path;
   lib.fingerprint_ = FileFingerprint(path);
   const auto format = file.metadata.find("format");
-  if (format == file.metadata.end() || format->second != kFormat || file.metadata.count("flsd") == 0) {
-    throw InputError(path + ": a safetensors file, but not an FLSD skill library (no '" + std::string(kFormat) +
+  if (format == file.metadata.end() || format->second != kSkillLibraryFormat || file.metadata.count("flsd") == 0) {
+    throw InputError(path + ": a safetensors file, but not an FLSD skill library (no '" + std::string(kSkillLibraryFormat) +
                      "' metadata)");
   }
   try {
@@ -165,44 +169,17 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   }
   const MetadataChecker m(path, lib.metadata_);
 
+  // The version first: what else a library holds, and where, depends on it.
   const int version = m.Get<int>("/format_version");
-  if (version != kVersion) {
-    m.Fail("/format_version", "is " + std::to_string(version) + " but this build reads version " + std::to_string(kVersion));
-  }
-  m.ExpectString("/robot", "unitree_a1");
-  const std::vector<std::string> joints = m.Get<std::vector<std::string>>("/joint_names");
-  if (joints.size() != a1::kJointNames.size()) m.Fail("/joint_names", "does not list 12 joints");
-  for (int j = 0; j < a1::kNumJoints; ++j) {
-    if (joints[j] != a1::kJointNames[j]) {
-      m.Fail("/joint_names/" + std::to_string(j), "is '" + joints[j] + "' but this robot's joint " + std::to_string(j) +
-                                                       " is '" + a1::kJointNames[j] + "' (joint order differs)");
-    }
-  }
-  // The observation layout, segment by segment.
-  const nlohmann::json& motion = m.At("/observation/motion");
-  if (!motion.is_array() || motion.size() != kMotionObsLayout.size()) {
-    m.Fail("/observation/motion", "does not have the " + std::to_string(kMotionObsLayout.size()) + " segments of o^m");
-  }
-  for (size_t s = 0; s < kMotionObsLayout.size(); ++s) {
-    const std::string at = "/observation/motion/" + std::to_string(s);
-    m.ExpectString(at + "/name", kMotionObsLayout[s].name);
-    m.ExpectNumber(at + "/offset", kMotionObsLayout[s].offset);
-    m.ExpectNumber(at + "/size", kMotionObsLayout[s].size);
-    m.ExpectNumber(at + "/scale", kMotionObsLayout[s].scale);
+  if (version != kSkillLibraryVersion) {
+    m.Fail("/format_version", "is " + std::to_string(version) + " but this build reads version " +
+                                  std::to_string(kSkillLibraryVersion));
   }
   lib.num_skills_ = m.Get<int>("/num_skills");
   if (lib.num_skills_ < 1) m.Fail("/num_skills", "must be at least 1");
   lib.policy_obs_size_ = PolicyObservationSize(lib.num_skills_);
-  m.ExpectNumber("/observation/motion_size", kMotionObsSize);
-  m.ExpectNumber("/observation/policy/motion", kMotionObsSize);
-  m.ExpectNumber("/observation/policy/previous_action", kActionSize);
-  m.ExpectNumber("/observation/policy/skill_onehot", lib.num_skills_);
-  m.ExpectNumber("/observation/policy_size", lib.policy_obs_size_);
-  m.ExpectNumber("/observation/normalized_size", kMotionObsSize + kActionSize);
-  m.ExpectNumber("/action/size", kActionSize);
-  m.ExpectNumber("/action/scale", a1::kActionScale);
-  m.ExpectNumber("/action/clip", a1::kActionClip);
-  m.ExpectNumbers("/action/default_joint_positions", DefaultPose());
+  VisitLibraryFacts([&](const std::string& pointer, const auto& expected) { m.Expect(pointer, expected); },
+                    lib.num_skills_);
   // Libraries exported before the target filter existed have no filter_hz: they ran without one.
   if (m.Has("/action/filter_hz")) {
     lib.action_filter_hz_ = m.Get<double>("/action/filter_hz");
@@ -215,16 +192,6 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
     lib.action_filter_order_ = m.Get<int>("/action/filter_order");
     if (lib.action_filter_order_ != 1 && lib.action_filter_order_ != 2) m.Fail("/action/filter_order", "must be 1 or 2");
   }
-  m.ExpectNumber("/control/kp", a1::kKp);
-  m.ExpectNumber("/control/kd", a1::kKd);
-  m.ExpectNumber("/control/control_dt", a1::kControlDt);
-  m.ExpectNumber("/control/physics_dt", a1::kPhysicsDt);
-  m.ExpectNumber("/control/decimation", a1::kDecimation);
-  m.ExpectNumber("/limits/torque", a1::kTorqueLimit);
-  m.ExpectNumber("/limits/joint_velocity", a1::kJointVelocityLimit);
-  m.ExpectNumbers("/limits/joint_min", JointLimits(a1::JointMin));
-  m.ExpectNumbers("/limits/joint_max", JointLimits(a1::JointMax));
-  m.ExpectString("/policy/activation", "elu");
 
   lib.policy_ = ReadNetwork(file, m, "/policy", "policy.", "normalizer.", lib.policy_obs_size_, kActionSize,
                             kMotionObsSize + kActionSize);

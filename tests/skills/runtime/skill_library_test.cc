@@ -174,7 +174,7 @@ TEST_F(SkillLibraryTest, ActAllocatesNothing) {
 
 TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { std::swap(m["joint_names"][0], m["joint_names"][1]); }),
-              HasSubstr("/joint_names/0 is 'FR_thigh_joint' but this robot's joint 0 is 'FR_hip_joint'"));
+              HasSubstr("/joint_names/0 is 'FR_thigh_joint' but this build expects 'FR_hip_joint'"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["control"]["kp"] = 25.0; }),
               HasSubstr("/control/kp is 25 but this robot uses 20"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["observation"]["motion"][1]["scale"] = 1.0; }),

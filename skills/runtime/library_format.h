@@ -1,0 +1,62 @@
+#pragma once
+// The skill library's format: the metadata fields that are facts of this robot and this build
+// (joint order, observation layout and scales, action scale and default pose, PD gains, control
+// period, limits), listed once. `flsd export` writes each as it is; SkillLibrary::Load checks each
+// against it and names the first that differs. What a library holds of its own (its skills, their
+// descriptors, the networks' sizes, the target filter, its training and evaluation) is written by
+// export.cc and read by skill_library.cc.
+
+#include <string>
+#include <vector>
+
+#include "robot/a1.h"
+#include "robot/observation.h"
+
+namespace flsd {
+
+inline constexpr const char* kSkillLibraryFormat = "flsd-skill-library";  // the safetensors "format" entry
+inline constexpr int kSkillLibraryVersion = 1;
+
+// Calls v(pointer, value) for every fact, with value an int, a double, a std::string, a
+// std::vector<double> or a std::vector<std::string>; num_skills sizes the policy's observation.
+template <class V>
+void VisitLibraryFacts(V&& v, int num_skills) {
+  v("/format", std::string(kSkillLibraryFormat));
+  v("/format_version", kSkillLibraryVersion);
+  v("/robot", std::string("unitree_a1"));
+  v("/joint_names", std::vector<std::string>(a1::kJointNames.begin(), a1::kJointNames.end()));
+  for (size_t s = 0; s < kMotionObsLayout.size(); ++s) {
+    const std::string at = "/observation/motion/" + std::to_string(s);
+    v(at + "/name", std::string(kMotionObsLayout[s].name));
+    v(at + "/offset", kMotionObsLayout[s].offset);
+    v(at + "/size", kMotionObsLayout[s].size);
+    v(at + "/scale", kMotionObsLayout[s].scale);
+  }
+  v("/observation/motion_size", kMotionObsSize);
+  v("/observation/policy/motion", kMotionObsSize);
+  v("/observation/policy/previous_action", kActionSize);
+  v("/observation/policy/skill_onehot", num_skills);
+  v("/observation/policy_size", PolicyObservationSize(num_skills));
+  v("/observation/normalized_size", kMotionObsSize + kActionSize);
+  v("/action/size", kActionSize);
+  v("/action/scale", a1::kActionScale);
+  v("/action/clip", a1::kActionClip);
+  v("/action/default_joint_positions", std::vector<double>(a1::kDefaultJointPos.begin(), a1::kDefaultJointPos.end()));
+  v("/control/kp", a1::kKp);
+  v("/control/kd", a1::kKd);
+  v("/control/control_dt", a1::kControlDt);
+  v("/control/physics_dt", a1::kPhysicsDt);
+  v("/control/decimation", a1::kDecimation);
+  v("/limits/torque", a1::kTorqueLimit);
+  v("/limits/joint_velocity", a1::kJointVelocityLimit);
+  std::vector<double> joint_min, joint_max;
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    joint_min.push_back(a1::JointMin(j));
+    joint_max.push_back(a1::JointMax(j));
+  }
+  v("/limits/joint_min", joint_min);
+  v("/limits/joint_max", joint_max);
+  v("/policy/activation", std::string("elu"));
+}
+
+}  // namespace flsd

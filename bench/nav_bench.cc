@@ -110,6 +110,14 @@ int Replans(const std::string& message) {
 nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, double top_speed) {
   const Reply reset = client.Reset();
   if (!reset.ok()) throw InputError("reset: " + reset.Describe());
+  // The controller applies the reset at its next tick: plan only from the reset pose.
+  const auto reset_by = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  for (uint64_t tick = 0; std::chrono::steady_clock::now() < reset_by;) {
+    const std::optional<StateReport> state = client.NextState(tick, std::chrono::milliseconds(500));
+    if (!state) continue;
+    tick = state->tick;
+    if (std::hypot(state->position[0], state->position[1]) < 0.05) break;
+  }
   const Eigen::Vector2d local_goal = goal.goal - goal.start;
   const double duration = std::min(300.0, 20.0 + 4.0 * goal.planned_length / top_speed);
   const Task task = client.Navigate(local_goal.x(), local_goal.y(), map.Shifted(goal.start).ToYaml(), duration);

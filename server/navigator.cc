@@ -172,7 +172,8 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
     seen = true;
     if (elapsed > job.timeout) {
       const double left = (job.goal - status.state.base_position.head<2>()).norm();
-      Finish(job, flsd_msgs_TASK_TIMEOUT, Format("timeout after %.0f s, %.2f m from the goal, %.0f replans", elapsed, left, replans));
+      Finish(job, flsd_msgs_TASK_TIMEOUT,
+             Format("timeout after %.0f s, %.2f m from the goal, %.0f replans", elapsed, left, replans));
       return;
     }
     if (status.mode != flsd_msgs_MODE_NAVIGATE) continue;  // still standing up

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <regex>
 #include <thread>
 #include <vector>
 
@@ -88,22 +87,10 @@ std::vector<Goal> DrawGoals(const Map2D& map, int count, double min_distance, Rn
   return goals;
 }
 
-double Mean(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (double v : values) sum += v;
-  return values.empty() ? 0.0 : sum / values.size();
-}
-
 double PathLength(const std::vector<double>& flat) {
   double length = 0.0;
   for (size_t i = 2; i + 1 < flat.size(); i += 2) length += std::hypot(flat[i] - flat[i - 2], flat[i + 1] - flat[i - 1]);
   return length;
-}
-
-int Replans(const std::string& message) {
-  std::smatch match;
-  static const std::regex kReplans("([0-9]+) replans");
-  return std::regex_search(message, match, kReplans) ? std::stoi(match[1]) : 0;
 }
 
 // One navigation from a fresh reset; the robot is stopped afterwards.
@@ -127,8 +114,11 @@ nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, doub
     result["message"] = task.reply().Describe();
     return result;
   }
-  // The closest approach from the state topic at its full rate, in the map's own frame.
+  // From the state topic at its full rate: the closest approach (in the map's own frame), the
+  // first plan's length, and each new plan after it, a replan.
   double closest = HUGE_VAL, planned_length = 0.0;
+  int replans = 0;
+  std::vector<double> path;
   uint64_t tick = 0;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration + 15.0);
   while (!task.Done() && std::chrono::steady_clock::now() < give_up) {
@@ -138,7 +128,11 @@ nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, doub
     const Eigen::Vector2d p = goal.start + Eigen::Vector2d(state->position[0], state->position[1]);
     if (state->task.request_id == task.request_id() && state->mode == Mode::kNavigate) {
       closest = std::min(closest, map.Clearance(p));
-      if (planned_length == 0.0) planned_length = PathLength(state->task.path);
+      if (!state->task.path.empty() && state->task.path != path) {
+        if (path.empty()) planned_length = PathLength(state->task.path);
+        else ++replans;
+        path = state->task.path;
+      }
     }
   }
   const TaskReport report = task.Progress();
@@ -148,7 +142,7 @@ nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, doub
   result["seconds"] = report.elapsed;
   result["planned_length"] = planned_length;
   result["time_over_ideal"] = planned_length > 0.0 ? report.elapsed / (planned_length / top_speed) : 0.0;
-  result["replans"] = Replans(report.message);
+  result["replans"] = replans;
   if (std::isfinite(closest)) result["closest_approach"] = closest;
   return result;
 }
@@ -167,7 +161,9 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
   client_options.domain_id = options.domain_id;
   client_options.partition = partition;
   Client client(client_options);
-  if (!client.WaitForServer(std::chrono::seconds(60))) throw InputError("skilld did not answer within 60 s (its log: " + log + ")");
+  if (!client.WaitForServer(std::chrono::seconds(60))) {
+    throw InputError("skilld did not answer within 60 s (its log: " + log + ")");
+  }
   const Reply control = client.AcquireControl();
   if (!control.ok()) throw InputError("acquire_control: " + control.Describe());
   // The ideal speed: the fastest skill the server serves (the selector's choices).
@@ -207,8 +203,8 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
     nlohmann::json entry = {{"map", file.stem().string()},
                             {"goals", goals.size()},
                             {"success_rate", goals.empty() ? 0.0 : static_cast<double>(succeeded) / goals.size()},
-                            {"time_over_ideal_p50", ratios.empty() ? 0.0 : Quantile(ratios, 0.5)},
-                            {"time_over_ideal_max", ratios.empty() ? 0.0 : Quantile(ratios, 1.0)},
+                            {"time_over_ideal_p50", Quantile(ratios, 0.5)},
+                            {"time_over_ideal_max", Quantile(ratios, 1.0)},
                             {"replans_mean", Mean(replans)},
                             {"closest_approach_min", std::isfinite(closest) ? nlohmann::json(closest) : nlohmann::json()},
                             {"runs", runs}};

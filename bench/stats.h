@@ -1,5 +1,5 @@
 #pragma once
-// Order statistics for latency benchmarks.
+// Summary statistics for benchmarks.
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +14,13 @@ inline double Quantile(std::vector<double> values, double q) {
   const size_t index = rank == 0 ? 0 : std::min(values.size() - 1, rank - 1);
   std::nth_element(values.begin(), values.begin() + index, values.end());
   return values[index];
+}
+
+// The arithmetic mean; 0 for no values.
+inline double Mean(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return values.empty() ? 0.0 : sum / values.size();
 }
 
 }  // namespace flsd

@@ -118,6 +118,24 @@ TEST_F(TaskTraining, MirroredRunsOverTheLibrarysEnvelopeTrain) {
   ASSERT_EQ(Train("mirrored_scratch", 2), 0);
 }
 
+// With reward streams the critic has two value heads: the run trains, resumes from its checkpoint,
+// and exports (loading the two-headed critic back), and the scratch policy does the same.
+TEST_F(TaskTraining, RunsWithRewardStreamsTrainResumeAndExport) {
+  config_.reward_streams = true;
+  ASSERT_EQ(Train("streams", 2), 0);
+  ASSERT_EQ(Train("streams", 3, /*resume=*/true), 0);
+  TrainedSelector trained = LoadTrainedSelector(config_, SkillLibrary::Load(library_).num_skills(),
+                                                Path("streams/checkpoint.pt"));
+  {
+    torch::NoGradGuard no_grad;
+    EXPECT_EQ(trained.policy->Value(torch::zeros({5, kTaskObsSize})).sizes(), (std::vector<int64_t>{5, 2}));
+  }
+  ExportSelector(Path("streams"), Path("streams.safetensors"));
+  EXPECT_TRUE(SkillLibrary::Load(Path("streams.safetensors")).selector().has_value());
+  config_.method = "scratch";
+  ASSERT_EQ(Train("streams_scratch", 2), 0);
+}
+
 TEST(VelocityTask, TheEnvelopeSpansTheSurvivingSkillsAndStill) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
   const std::array<Interval, 3> envelope = CommandEnvelope(library, 1.0);

@@ -138,10 +138,19 @@ void ReadConfig(const YAML::Node& node, const std::string& where, T& config) {
 // Parses a YAML file; throws InputError naming the file (and line) when it is absent or malformed.
 YAML::Node LoadYamlFile(const std::string& path);
 
+// A config file as its sections will read it:
+// - `base: other.yaml` (a path relative to the file) loads that file first, and this file's keys
+//   replace the base's: mappings merge key by key, anything else (values, lists) is replaced whole.
+//   Bases may have bases; a cycle is an error.
+// - each of `overrides`, "key.path=value" (the form of a `--set` option), then sets one key; the
+//   value is read as YAML ("0.3", "true", "[1, 2]"). Keys are not checked here: the strict
+//   ConfigReader names an unknown one.
+YAML::Node LoadConfigFile(const std::string& path, const std::vector<std::string>& overrides = {});
+
 // Loads section `section` of the YAML file at `path` into a T (defaults for missing keys).
 template <class T>
 T LoadConfigSection(const std::string& path, const std::string& section) {
-  const YAML::Node root = LoadYamlFile(path);
+  const YAML::Node root = LoadConfigFile(path);
   if (!root.IsMap() || !root[section]) {
     throw InputError(path + ": missing section '" + section + "'");
   }

@@ -56,9 +56,9 @@ void ValidateTaskTrainConfig(const TaskTrainConfig& config, const std::string& w
   }
 }
 
-TaskTrainConfig LoadTaskTrainConfig(const std::string& path) {
+TaskTrainConfig LoadTaskTrainConfig(const std::string& path, const std::vector<std::string>& overrides) {
   TaskTrainConfig config;
-  ReadConfig(LoadYamlFile(path), path + ":", config);
+  ReadConfig(LoadConfigFile(path, overrides), path + ":", config);
   ValidateTaskTrainConfig(config, path);
   return config;
 }
@@ -404,10 +404,11 @@ std::array<Interval, 3> CommandEnvelope(const SkillLibrary& library, double wide
 
 int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop_requested) {
   const RunFolder folder = OpenRunFolder(options.run_dir, options.resume);
-  TaskTrainConfig config = LoadTaskTrainConfig(options.resume ? folder.config_file : options.config_path);
-  if (options.resume && (!options.method.empty() || !options.library.empty())) {
-    throw InputError("--method and --library set up a new run; a resumed run keeps its own (" + folder.config_file + ")");
+  if (options.resume && (!options.method.empty() || !options.library.empty() || !options.overrides.empty())) {
+    throw InputError("--method, --library and --set set up a new run; a resumed run keeps its own (" +
+                     folder.config_file + ")");
   }
+  TaskTrainConfig config = LoadTaskTrainConfig(options.resume ? folder.config_file : options.config_path, options.overrides);
   if (!options.method.empty()) config.method = options.method;
   if (!options.library.empty()) config.library = options.library;
   if (options.iterations > 0) config.iterations = options.iterations;

@@ -74,7 +74,7 @@ struct TaskTrainConfig {
   }
 };
 
-TaskTrainConfig LoadTaskTrainConfig(const std::string& path);
+TaskTrainConfig LoadTaskTrainConfig(const std::string& path, const std::vector<std::string>& overrides = {});
 void ValidateTaskTrainConfig(const TaskTrainConfig& config, const std::string& where);
 
 // The observation the task policy sees: o^c for the selector; o^c and the previous joint action
@@ -177,6 +177,7 @@ struct TaskRunOptions {
   bool resume = false;
   int iterations = 0;
   int threads = 0;  // overrides the config's num_threads
+  std::vector<std::string> overrides;  // a new run's "key.path=value" changes to its config
 };
 // As RunTraining (training_run.h), for the velocity task.
 int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop_requested);

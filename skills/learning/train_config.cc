@@ -37,9 +37,9 @@ void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
   }
 }
 
-TrainConfig LoadTrainConfig(const std::string& path) {
+TrainConfig LoadTrainConfig(const std::string& path, const std::vector<std::string>& overrides) {
   TrainConfig config;
-  ReadConfig(LoadYamlFile(path), path + ":", config);
+  ReadConfig(LoadConfigFile(path, overrides), path + ":", config);
   ValidateTrainConfig(config, path);
   return config;
 }

@@ -108,7 +108,7 @@ struct TrainConfig {
 };
 
 // Reads and checks a whole training config file (unknown keys and bad values are errors).
-TrainConfig LoadTrainConfig(const std::string& path);
+TrainConfig LoadTrainConfig(const std::string& path, const std::vector<std::string>& overrides = {});
 // The same checks for a config built in code or parsed from a checkpoint.
 void ValidateTrainConfig(const TrainConfig& config, const std::string& where);
 

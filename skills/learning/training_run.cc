@@ -108,7 +108,11 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
   if (!options.from_checkpoint.empty() && !std::filesystem::is_regular_file(options.from_checkpoint)) {
     throw InputError("--from " + options.from_checkpoint + ": no such checkpoint file");
   }
-  TrainConfig config = LoadTrainConfig(options.resume ? folder.config_file : options.config_path);
+  if (options.resume && !options.overrides.empty()) {
+    throw InputError("--set changes a new run's config; a resumed run keeps its own (" + folder.config_file +
+                     "); start a new run from its checkpoint with --from");
+  }
+  TrainConfig config = LoadTrainConfig(options.resume ? folder.config_file : options.config_path, options.overrides);
   if (!options.method.empty()) {
     if (options.resume && options.method != config.method) {
       throw InputError("--method " + options.method + " differs from the run's method '" + config.method + "'");

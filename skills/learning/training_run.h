@@ -1,6 +1,7 @@
 #pragma once
 #include <atomic>
 #include <string>
+#include <vector>
 
 namespace flsd {
 
@@ -15,6 +16,7 @@ struct TrainingRunOptions {
   int iterations = 0;  // > 0: train until this many iterations in total
   int seed = -1;       // >= 0: a new run's seed instead of the config's (another seed, same config)
   int threads = 0;     // > 0: simulation threads (per rank) instead of the config's
+  std::vector<std::string> overrides;  // a new run's "key.path=value" changes to its config
 };
 
 // Trains in run_dir: config.yaml (the resolved config), checkpoint.pt (every checkpoint_every

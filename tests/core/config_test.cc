@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "sim/env_config.h"
@@ -170,6 +172,83 @@ TEST(LoadYamlFile, MalformedFileIsNamedWithTheLine) {
   const TempFile file(".yaml", "a: 1\nb: 2\nc: d: e\n");  // the third line is not YAML
   EXPECT_THAT(InputErrorMessage([&] { LoadYamlFile(file.path()); }),
               AllOf(HasSubstr(file.path() + ":3:"), HasSubstr("malformed YAML")));
+}
+
+// A file's name relative to another's folder: `base:` paths are relative to the including file.
+std::string BaseName(const TempFile& file) { return std::filesystem::path(file.path()).filename().string(); }
+
+TEST(LoadConfigFile, ABaseIsMergedUnderTheFileKeyByKey) {
+  const TempFile base(".yaml", "count: 4\nname: base\ninner:\n  gain: 0.1\n  span: [0, 2]\n");
+  const TempFile file(".yaml", "base: " + BaseName(base) + "\nname: child\ninner:\n  span: [-1, 1]\n");
+  SampleConfig config;
+  ReadConfig(LoadConfigFile(file.path()), file.path() + ":", config);
+  EXPECT_EQ(config.count, 4);           // from the base
+  EXPECT_EQ(config.name, "child");      // replaced
+  EXPECT_DOUBLE_EQ(config.inner.gain, 0.1);  // a section merges key by key
+  EXPECT_EQ(config.inner.span, (Interval{-1.0, 1.0}));  // a list is replaced whole
+}
+
+TEST(LoadConfigFile, BasesChainAndTheBaseFileIsUnchanged) {
+  const TempFile root(".yaml", "count: 2\nrate: 0.5\n");
+  const TempFile middle(".yaml", "base: " + BaseName(root) + "\nrate: 0.75\n");
+  const TempFile top(".yaml", "base: " + BaseName(middle) + "\ncount: 9\n");
+  SampleConfig config;
+  ReadConfig(LoadConfigFile(top.path()), "top", config);
+  EXPECT_EQ(config.count, 9);
+  EXPECT_DOUBLE_EQ(config.rate, 0.75);
+  SampleConfig middle_config;
+  ReadConfig(LoadConfigFile(middle.path()), "middle", middle_config);
+  EXPECT_EQ(middle_config.count, 2);
+}
+
+TEST(LoadConfigFile, ACycleOfBasesIsAnError) {
+  const std::string dir = std::filesystem::path(testutil::UniqueTempPath("cycle")).string();
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/a.yaml") << "base: b.yaml\ncount: 1\n";
+  std::ofstream(dir + "/b.yaml") << "base: a.yaml\ncount: 2\n";
+  EXPECT_THAT(InputErrorMessage([&] { LoadConfigFile(dir + "/a.yaml"); }),
+              AllOf(HasSubstr("base: a cycle"), HasSubstr("a.yaml -> "), HasSubstr("b.yaml")));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(LoadConfigFile, AMissingBaseNamesTheIncludingFileAndTheBase) {
+  const TempFile file(".yaml", "base: no_such_base.yaml\n");
+  EXPECT_THAT(InputErrorMessage([&] { LoadConfigFile(file.path()); }),
+              AllOf(HasSubstr("no_such_base.yaml"), HasSubstr("cannot open")));
+}
+
+TEST(LoadConfigFile, OverridesSetValuesListsAndNewSections) {
+  const TempFile file(".yaml", "count: 4\ninner:\n  gain: 0.1\n");
+  SampleConfig config;
+  ReadConfig(LoadConfigFile(file.path(), {"count=7", "inner.span=[0.25, 0.5]", "verbose=true", "name=x=y"}), "f",
+             config);
+  EXPECT_EQ(config.count, 7);
+  EXPECT_DOUBLE_EQ(config.inner.gain, 0.1);
+  EXPECT_EQ(config.inner.span, (Interval{0.25, 0.5}));
+  EXPECT_TRUE(config.verbose);
+  EXPECT_EQ(config.name, "x=y");  // the first '=' ends the key
+
+  const TempFile bare(".yaml", "count: 4\n");
+  SampleConfig nested;
+  ReadConfig(LoadConfigFile(bare.path(), {"inner.gain=0.9"}), "f", nested);  // no inner: in the file
+  EXPECT_DOUBLE_EQ(nested.inner.gain, 0.9);
+}
+
+TEST(LoadConfigFile, MalformedOverridesAreNamed) {
+  const TempFile file(".yaml", "count: 4\n");
+  for (const std::string bad : {"count", "=3", "inner..gain=1", ".count=1", "count.=1"}) {
+    EXPECT_THAT(InputErrorMessage([&] { LoadConfigFile(file.path(), {bad}); }),
+                AllOf(HasSubstr("--set '" + bad + "'"), HasSubstr("key.path=value")))
+        << bad;
+  }
+  EXPECT_THAT(InputErrorMessage([&] { LoadConfigFile(file.path(), {"count.sub=1"}); }),
+              HasSubstr("count is a value, not a section"));
+  EXPECT_THAT(InputErrorMessage([&] { LoadConfigFile(file.path(), {"count=[1, 2"}); }),
+              HasSubstr("the value is not YAML"));
+  // An unknown key passes the loader and is named by the strict reader.
+  SampleConfig config;
+  EXPECT_THAT(InputErrorMessage([&] { ReadConfig(LoadConfigFile(file.path(), {"cuont=5"}), "f:", config); }),
+              HasSubstr("f: cuont: unknown key"));
 }
 
 TEST(LoadConfigSection, MissingSectionIsNamed) {

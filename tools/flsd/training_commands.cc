@@ -38,6 +38,7 @@ void AddTraining(CLI::App& app, Subcommands& out) {
   train_cmd->add_option("--seed", train->seed, "Seed of a new run (default: the config's)")->check(CLI::Range(0, 1 << 30));
   train_cmd->add_option("--threads", train->threads, "Simulation threads per process (default: the config's)")
       ->check(CLI::Range(1, 1024));
+  train_cmd->add_option("--set", train->overrides, "Change a new run's config: key.path=value (repeatable)");
   out.push_back({train_cmd, [train] {
                    if (!train->resume && train->config_path.empty()) {
                      throw InputError("train: --config is required for a new run");
@@ -58,6 +59,7 @@ void AddTraining(CLI::App& app, Subcommands& out) {
   task_cmd->add_option("--iterations", task->iterations, "Train until this many iterations in total")
       ->check(CLI::Range(1, 100000000));
   task_cmd->add_option("--threads", task->threads, "Simulation threads (default: the config's)")->check(CLI::Range(1, 1024));
+  task_cmd->add_option("--set", task->overrides, "Change a new run's config: key.path=value (repeatable)");
   out.push_back({task_cmd, [task] {
                    if (!task->resume && task->config_path.empty()) {
                      throw InputError("train-selector: --config is required for a new run");

@@ -32,6 +32,7 @@
 namespace flsd {
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 using testutil::InputErrorMessage;
 namespace fs = std::filesystem;
@@ -446,6 +447,7 @@ TEST(TrainingConfigs, TheServedConfigsEndEpisodesByTheSupervisorsDefaults) {
   for (const TerminationConfig& served :
        {LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_served.yaml")).env.termination,
         LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_symmetric.yaml")).env.termination,
+        LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_symmetric_mild.yaml")).env.termination,
         LoadTaskTrainConfig(ResolveDataPath("configs/selector_tracking_served.yaml")).env.termination}) {
     EXPECT_EQ(served.max_tilt, supervisor.max_tilt);
     EXPECT_EQ(served.min_base_height, supervisor.min_base_height);
@@ -454,6 +456,31 @@ TEST(TrainingConfigs, TheServedConfigsEndEpisodesByTheSupervisorsDefaults) {
     EXPECT_EQ(served.joint_range_margin, supervisor.joint_range_margin);
     EXPECT_EQ(served.on_calf_contact, supervisor.on_calf_contact);
   }
+}
+
+TEST_F(TrainingRun, SetChangesANewRunsRecordedConfigAndIsRefusedOnResume) {
+  const std::atomic<bool> stop{false};
+  TrainingRunOptions options;
+  options.config_path = ResolveDataPath("configs/smoke.yaml");
+  options.run_dir = dir_;
+  options.iterations = 1;
+  options.overrides = {"ppo.entropy_coef=0.004", "env.reset.standing_fraction=0.5"};
+  ASSERT_EQ(RunTraining(options, stop), 0);
+  const TrainConfig recorded = LoadTrainConfig(Path("config.yaml"));
+  EXPECT_DOUBLE_EQ(recorded.ppo.entropy_coef, 0.004);
+  EXPECT_DOUBLE_EQ(recorded.env.reset.standing_fraction, 0.5);
+  EXPECT_EQ(recorded.num_envs, SmokeConfig().num_envs);
+
+  options.resume = true;
+  options.iterations = 2;
+  EXPECT_THAT(InputErrorMessage([&] { RunTraining(options, stop); }),
+              AllOf(HasSubstr("--set"), HasSubstr("a resumed run keeps its own")));
+  options.overrides = {"ppo.entropy_coeff=0.1"};
+  options.resume = false;
+  const std::string other = dir_ + "_typo";
+  options.run_dir = other;
+  EXPECT_THAT(InputErrorMessage([&] { RunTraining(options, stop); }), HasSubstr("ppo.entropy_coeff: unknown key"));
+  fs::remove_all(other);
 }
 
 TEST_F(TrainingRun, KeepsACheckpointEveryKeepIterationsThatEvalAndExportCanLoad) {

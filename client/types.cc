@@ -6,13 +6,9 @@
 
 namespace flsd {
 
-// The client's enums are the IDL's, value for value: converting is a cast.
+// The client's reply status is the IDL's, value for value: converting is a cast (the modes: comm/protocol.cc).
 static_assert(static_cast<int>(ReplyStatus::kOk) == flsd_msgs_STATUS_OK);
 static_assert(static_cast<int>(ReplyStatus::kInternal) == flsd_msgs_STATUS_INTERNAL);
-static_assert(static_cast<int>(Mode::kIdle) == flsd_msgs_MODE_IDLE);
-static_assert(static_cast<int>(Mode::kDamp) == flsd_msgs_MODE_DAMP);
-static_assert(static_cast<int>(TaskState::kNone) == flsd_msgs_TASK_NONE);
-static_assert(static_cast<int>(TaskState::kTimeout) == flsd_msgs_TASK_TIMEOUT);
 
 const char* Name(ReplyStatus status) {
   if (status == ReplyStatus::kNoReply) return "no reply";

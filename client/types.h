@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "comm/modes.h"
+
 namespace flsd {
 
 enum class ReplyStatus {
@@ -23,11 +25,6 @@ enum class ReplyStatus {
   kInternal,
   kNoReply,  // not the server's: no reply came within the call's timeout
 };
-
-enum class Mode { kIdle, kStand, kSkill, kVelocity, kNavigate, kDamp };
-
-// kNone: the state topic has not reported the task (yet).
-enum class TaskState { kNone, kRunning, kSucceeded, kCancelled, kSafetyStop, kPreempted, kLeaseLost, kNoPath, kTimeout };
 
 // "ok", "not in control", "no reply"; "stand"; "succeeded", "lease lost".
 const char* Name(ReplyStatus status);

@@ -4,6 +4,13 @@
 
 namespace flsd::dds {
 
+static_assert(static_cast<int>(Mode::kIdle) == flsd_msgs_MODE_IDLE);
+static_assert(static_cast<int>(Mode::kNavigate) == flsd_msgs_MODE_NAVIGATE);
+static_assert(static_cast<int>(Mode::kDamp) == flsd_msgs_MODE_DAMP);
+static_assert(static_cast<int>(TaskState::kNone) == flsd_msgs_TASK_NONE);
+static_assert(static_cast<int>(TaskState::kSafetyStop) == flsd_msgs_TASK_SAFETY_STOP);
+static_assert(static_cast<int>(TaskState::kTimeout) == flsd_msgs_TASK_TIMEOUT);
+
 constexpr bool SpecsInEnumOrder() {
   for (std::size_t i = 0; i < std::size(kCallSpecs); ++i) {
     if (static_cast<std::size_t>(kCallSpecs[i].call) != i) return false;

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "comm/dds.h"
+#include "comm/modes.h"
 #include "flsd_msgs.h"
 
 namespace flsd::dds {
@@ -71,5 +72,9 @@ std::string KnownCalls();
 const char* ModeName(flsd_msgs_Mode mode);
 const char* StatusName(flsd_msgs_ReplyStatus status);
 const char* TaskStateName(flsd_msgs_TaskState state);
+
+// The project's enums (comm/modes.h) as the IDL's: the same values, so a cast.
+inline flsd_msgs_Mode ToIdl(Mode mode) { return static_cast<flsd_msgs_Mode>(mode); }
+inline flsd_msgs_TaskState ToIdl(TaskState state) { return static_cast<flsd_msgs_TaskState>(state); }
 
 }  // namespace flsd::dds

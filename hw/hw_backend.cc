@@ -16,40 +16,6 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-// Bit-identical IMU readings: a real IMU's noise never repeats frame after frame.
-bool SameImu(const LowState& a, const LowState& b) {
-  return a.imu.quaternion == b.imu.quaternion && a.imu.gyroscope == b.imu.gyroscope &&
-         a.imu.accelerometer == b.imu.accelerometer;
-}
-
-// Bit-identical joint encoder readings.
-bool SameJoints(const LowState& a, const LowState& b) {
-  for (int j = 0; j < a1::kNumJoints; ++j) {
-    if (a.motors[j].q != b.motors[j].q || a.motors[j].dq != b.motors[j].dq) return false;
-  }
-  return true;
-}
-
-// Whether the IMU says the body turns: far above its noise (about 0.01 rad/s).
-bool Turning(const LowState& frame) {
-  const auto& g = frame.imu.gyroscope;
-  return std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) > 0.1f;
-}
-
-// How long a sensor's readings have repeated: each sensor is judged on its own, so that a hung
-// IMU is caught while the encoders still move (a fall would otherwise go unseen).
-struct FreezeTimer {
-  bool frozen = false;
-  std::chrono::steady_clock::time_point since;
-  void Update(bool same, std::chrono::steady_clock::time_point now) {
-    if (same && !frozen) since = now;
-    frozen = same;
-  }
-  bool Outlasts(double seconds, std::chrono::steady_clock::time_point now) const {
-    return frozen && std::chrono::duration<double>(now - since).count() > seconds;
-  }
-};
-
 // A frame whose CRC passed can still carry garbage: non-finite numbers, or an attitude that is
 // not a rotation. Such a frame is counted and not used.
 bool Plausible(const LowState& frame) {
@@ -102,23 +68,23 @@ RobotState HwBackend::Read() {
 
 std::string HwBackend::Fault() const {
   char text[160];
-  switch (static_cast<FaultCode>(fault_.load())) {
-    case FaultCode::kNone: return {};
-    case FaultCode::kStale:
+  switch (static_cast<DriverFault>(fault_.load())) {
+    case DriverFault::kNone: return {};
+    case DriverFault::kStale:
       std::snprintf(text, sizeof text, "no valid state frame from the robot for %.0f ms", since_valid_.load() * 1e3);
       break;
-    case FaultCode::kFrozenImu:
+    case DriverFault::kFrozenImu:
       std::snprintf(text, sizeof text, "IMU readings frozen (identical for over %.0f ms)", config_.frozen_after * 1e3);
       break;
-    case FaultCode::kFrozenJoints:
+    case DriverFault::kFrozenJoints:
       std::snprintf(text, sizeof text, "joint encoder readings frozen (identical for over %.0f ms while the body turns)",
                     config_.frozen_after * 1e3);
       break;
-    case FaultCode::kNoCommand:
+    case DriverFault::kNoCommand:
       std::snprintf(text, sizeof text, "no command from the control loop for over %.0f ms: the driver damps",
                     config_.command_timeout * 1e3);
       break;
-    case FaultCode::kMotorMode:
+    case DriverFault::kMotorMode:
       std::snprintf(text, sizeof text, "motor %s is not in servo mode", a1::kJointNames[std::max(0, fault_joint_.load())]);
       break;
   }
@@ -160,12 +126,10 @@ void HwBackend::Run() {
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / config_.rate_hz));
   JointCommand command;  // all zero gains: torque-free
   uint8_t out[kLowCommandSize], in[2048];
-  LowState frame, previous;
+  LowState frame;
   bool have_frame = false;
   uint32_t last_tick = 0;
-  auto last_valid = Clock::now(), mode_bad_since = Clock::now();
-  FreezeTimer imu_frozen, joints_frozen;
-  bool mode_bad = false;
+  DriverMonitor monitor(config_, Clock::now());
   auto next = Clock::now();
   while (running_.load(std::memory_order_relaxed)) {
     // The command-loss watchdog: if the control loop stops handing commands over (hung, or
@@ -206,37 +170,17 @@ void HwBackend::Run() {
     const auto now = Clock::now();
     if (fresh) {
       received_.fetch_add(1, std::memory_order_relaxed);
-      last_valid = now;
       const double dt = have_frame ? static_cast<uint32_t>(frame.tick - last_tick) * 1e-6 : 0.0;
       estimator_.Update(frame, std::min(dt, 0.05));
       states_.Write(estimator_.state());
       frames_.Write(frame);
-      imu_frozen.Update(have_frame && SameImu(frame, previous), now);
-      // The encoders of a robot at rest may repeat (they are quantised, and dq is then 0): they
-      // are frozen only if they repeat while the IMU says the body turns.
-      joints_frozen.Update(have_frame && SameJoints(frame, previous) && Turning(frame), now);
-      bool any_mode_bad = false;
-      for (int j = 0; j < a1::kNumJoints; ++j) {
-        if ((command.kp[j] != 0.0 || command.kd[j] != 0.0) && frame.motors[j].mode != kModeServo) {
-          any_mode_bad = true;
-          fault_joint_ = j;
-        }
-      }
-      if (any_mode_bad && !mode_bad) mode_bad_since = now;
-      mode_bad = any_mode_bad;
-      previous = frame;
+      monitor.OnFrame(frame, command, now);
       last_tick = frame.tick;
       have_frame = true;
     }
-    since_valid_.store(Seconds(now - last_valid), std::memory_order_relaxed);
-    FaultCode fault = FaultCode::kNone;
-    if (command_lost) fault = FaultCode::kNoCommand;
-    else if (Seconds(now - last_valid) > config_.stale_after) fault = FaultCode::kStale;
-    // A freeze is what valid frames show, up to the last of them: without frames it is a stale state.
-    else if (imu_frozen.Outlasts(config_.frozen_after, last_valid)) fault = FaultCode::kFrozenImu;
-    else if (joints_frozen.Outlasts(config_.frozen_after, last_valid)) fault = FaultCode::kFrozenJoints;
-    else if (mode_bad && Seconds(now - mode_bad_since) > config_.motor_mode_after) fault = FaultCode::kMotorMode;
-    fault_.store(static_cast<int>(fault), std::memory_order_relaxed);
+    since_valid_.store(monitor.SinceValid(now), std::memory_order_relaxed);
+    fault_joint_.store(monitor.motor_mode_joint(), std::memory_order_relaxed);
+    fault_.store(static_cast<int>(monitor.Check(command_lost, now)), std::memory_order_relaxed);
     cycles_.fetch_add(1, std::memory_order_relaxed);
     std::this_thread::sleep_until(next);
     if (Clock::now() - next > 10 * period) next = Clock::now();  // after a stall, no burst

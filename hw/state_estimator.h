@@ -8,30 +8,13 @@
 
 #include <Eigen/Core>
 
-#include "core/config.h"
+#include "hw/hw_config.h"
 #include "hw/a1_protocol.h"
 #include "hw/leg_kinematics.h"
 #include "robot/robot_state.h"
 
 namespace flsd::hw {
 
-struct EstimatorConfig {
-  double contact_threshold = 20.0;  // foot force above which a foot is in stance (sensor units)
-  double accelerometer_noise = 1.0;  // m/s^2, drives the process noise
-  double leg_velocity_noise = 0.05;  // m/s, per stance foot
-  double leg_height_noise = 0.01;    // m, per stance foot
-  // A foot whose squared Mahalanobis distance (4 degrees of freedom: velocity and height) is above
-  // this slips. 9 keeps 94 % of feet that do not slip (chi-square); tuned on the shipped skills.
-  double slip_gate = 9.0;
-  template <class V>
-  void Visit(V& v) {
-    v("contact_threshold", contact_threshold, Bounds<double>{0.0, 10000.0});
-    v("accelerometer_noise", accelerometer_noise, Bounds<double>{1e-4, 100.0});
-    v("leg_velocity_noise", leg_velocity_noise, Bounds<double>{1e-4, 10.0});
-    v("leg_height_noise", leg_height_noise, Bounds<double>{1e-5, 1.0});
-    v("slip_gate", slip_gate, Bounds<double>{0.5, 10000.0});
-  }
-};
 
 class StateEstimator {
  public:

@@ -90,12 +90,12 @@ void Controller::Tick() {
   hazards_ = faults | SafetySupervisor::Hazards(state_, config_.safety);
   if (MotorsActive()) {
     // A robot rising from the floor, or lying down to rise again, is low until it has stood up.
-    const bool rising = mode_ == flsd_msgs_MODE_STAND && (stand_ticks_ < stand_total_ticks_ || lying_down_);
+    const bool rising = mode_ == Mode::kStand && (stand_ticks_ < stand_total_ticks_ || lying_down_);
     faults |= supervisor_.Check(state_, a1::kControlDt, !rising);
   } else {
     supervisor_.Reset();
   }
-  if (faults != 0 && mode_ != flsd_msgs_MODE_DAMP) EnterDamp(faults);
+  if (faults != 0 && mode_ != Mode::kDamp) EnterDamp(faults);
 
   ControlRequest request;
   while (TakeQueued(request)) Apply(request);
@@ -114,29 +114,29 @@ void Controller::Tick() {
 
   // A skill or velocity task waiting for the stand starts now, so that its policy acts from its
   // first published tick.
-  if (mode_ == flsd_msgs_MODE_STAND && stand_ticks_ >= stand_total_ticks_) SettledStand();
+  if (mode_ == Mode::kStand && stand_ticks_ >= stand_total_ticks_) SettledStand();
   JointCommand command;
   switch (mode_) {
-    case flsd_msgs_MODE_STAND: command = StandCommand(); break;
-    case flsd_msgs_MODE_SKILL: command = task_ticks_left_ > 0 ? SkillCommand() : EndTimedTask(); break;
-    case flsd_msgs_MODE_VELOCITY:
-    case flsd_msgs_MODE_NAVIGATE: command = task_ticks_left_ > 0 ? VelocityCommand() : EndTimedTask(); break;
+    case Mode::kStand: command = StandCommand(); break;
+    case Mode::kSkill: command = task_ticks_left_ > 0 ? SkillCommand() : EndTimedTask(); break;
+    case Mode::kVelocity:
+    case Mode::kNavigate: command = task_ticks_left_ > 0 ? VelocityCommand() : EndTimedTask(); break;
     default: command = DampCommand(); break;
   }
   backend_.Send(command);
 
-  if (task_.state == flsd_msgs_TASK_RUNNING) {
+  if (task_.state == TaskState::kRunning) {
     task_.elapsed = static_cast<double>(tick_ - task_start_tick_) * a1::kControlDt;
-    const int stand_left = mode_ == flsd_msgs_MODE_STAND ? std::max(0, stand_total_ticks_ - stand_ticks_) : 0;
-    const int task_left = mode_ == flsd_msgs_MODE_STAND ? pending_ticks_ : task_ticks_left_;
+    const int stand_left = mode_ == Mode::kStand ? std::max(0, stand_total_ticks_ - stand_ticks_) : 0;
+    const int task_left = mode_ == Mode::kStand ? pending_ticks_ : task_ticks_left_;
     task_.remaining = (stand_left + task_left) * a1::kControlDt;
   }
   Publish();
 }
 
 bool Controller::MotorsActive() const {
-  return mode_ == flsd_msgs_MODE_STAND || mode_ == flsd_msgs_MODE_SKILL || mode_ == flsd_msgs_MODE_VELOCITY ||
-         mode_ == flsd_msgs_MODE_NAVIGATE;
+  return mode_ == Mode::kStand || mode_ == Mode::kSkill || mode_ == Mode::kVelocity ||
+         mode_ == Mode::kNavigate;
 }
 
 void Controller::Apply(const ControlRequest& request) {
@@ -146,47 +146,47 @@ void Controller::Apply(const ControlRequest& request) {
       // request side refuses these too; this catches what changed since it looked).
       if (hazards_ != 0) return;
       if (latched_faults_ & kFaultStop) return;  // an emergency stop is lifted on purpose only
-      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by stand");
+      if (task_.state == TaskState::kRunning) EndTask(TaskState::kPreempted, "preempted by stand");
       latched_faults_ = 0;
       fault_message_[0] = '\0';
       recoveries_ = 0;
-      if (mode_ != flsd_msgs_MODE_STAND) EnterStand();
-      pending_mode_ = flsd_msgs_MODE_IDLE;
+      if (mode_ != Mode::kStand) EnterStand();
+      pending_mode_ = Mode::kIdle;
       break;
     case ControlRequest::Kind::kSkill:
-      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by a new skill");
+      if (task_.state == TaskState::kRunning) EndTask(TaskState::kPreempted, "preempted by a new skill");
       StartTask(request, dds::CallName(dds::Call::kExecuteSkill));
-      if (mode_ == flsd_msgs_MODE_DAMP) {  // a stop latched after the request side accepted it
-        EndTask(flsd_msgs_TASK_SAFETY_STOP, "a safety stop latched before the skill could start");
+      if (mode_ == Mode::kDamp) {  // a stop latched after the request side accepted it
+        EndTask(TaskState::kSafetyStop, "a safety stop latched before the skill could start");
         return;
       }
       if (hazards_ != 0) {  // as for stand: never stiffen a robot that is down or unsensed
         char why[192];
         DescribeFaults(hazards_, state_, config_.safety, why, sizeof why, backend_fault_.data());
-        EndTask(flsd_msgs_TASK_SAFETY_STOP, why);
+        EndTask(TaskState::kSafetyStop, why);
         return;
       }
       // Every skill starts from the default pose: the state its episodes started from in training.
       recoveries_ = 0;
       EnterStand();
-      pending_mode_ = flsd_msgs_MODE_SKILL;
+      pending_mode_ = Mode::kSkill;
       pending_skill_ = request.skill;
       pending_ticks_ = std::max(1, Ticks(request.duration));
       break;
     case ControlRequest::Kind::kVelocity: {
       if (!hierarchy_) return;  // the request side refuses these
-      const flsd_msgs_Mode mode = request.navigate ? flsd_msgs_MODE_NAVIGATE : flsd_msgs_MODE_VELOCITY;
-      const bool walking = mode_ == flsd_msgs_MODE_VELOCITY || mode_ == flsd_msgs_MODE_NAVIGATE;
-      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_PREEMPTED, "preempted by a new velocity task");
+      const Mode mode = request.navigate ? Mode::kNavigate : Mode::kVelocity;
+      const bool walking = mode_ == Mode::kVelocity || mode_ == Mode::kNavigate;
+      if (task_.state == TaskState::kRunning) EndTask(TaskState::kPreempted, "preempted by a new velocity task");
       StartTask(request, dds::CallName(request.navigate ? dds::Call::kNavigate : dds::Call::kTrackVelocity));
-      if (mode_ == flsd_msgs_MODE_DAMP) {
-        EndTask(flsd_msgs_TASK_SAFETY_STOP, "a safety stop latched before the task could start");
+      if (mode_ == Mode::kDamp) {
+        EndTask(TaskState::kSafetyStop, "a safety stop latched before the task could start");
         return;
       }
       if (hazards_ != 0) {
         char why[192];
         DescribeFaults(hazards_, state_, config_.safety, why, sizeof why, backend_fault_.data());
-        EndTask(flsd_msgs_TASK_SAFETY_STOP, why);
+        EndTask(TaskState::kSafetyStop, why);
         return;
       }
       velocity_command_ = hierarchy_->Clip(request.velocity.data());
@@ -202,7 +202,7 @@ void Controller::Apply(const ControlRequest& request) {
       break;
     }
     case ControlRequest::Kind::kVelocityUpdate:
-      if (!hierarchy_ || task_.state != flsd_msgs_TASK_RUNNING || task_.request_id != request.request_id ||
+      if (!hierarchy_ || task_.state != TaskState::kRunning || task_.request_id != request.request_id ||
           task_.client_id != request.client_id) {
         return;  // that task has ended
       }
@@ -211,12 +211,12 @@ void Controller::Apply(const ControlRequest& request) {
       break;
     case ControlRequest::Kind::kStop:
       if (!StopApplies(request)) return;
-      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(request.stop_state, request.reason.data());
-      pending_mode_ = flsd_msgs_MODE_IDLE;
-      if (mode_ != flsd_msgs_MODE_DAMP && mode_ != flsd_msgs_MODE_IDLE && mode_ != flsd_msgs_MODE_STAND) EnterStand();
+      if (task_.state == TaskState::kRunning) EndTask(request.stop_state, request.reason.data());
+      pending_mode_ = Mode::kIdle;
+      if (mode_ != Mode::kDamp && mode_ != Mode::kIdle && mode_ != Mode::kStand) EnterStand();
       break;
     case ControlRequest::Kind::kDamp:
-      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_CANCELLED, request.reason.data());
+      if (task_.state == TaskState::kRunning) EndTask(TaskState::kCancelled, request.reason.data());
       EnterDamp(kFaultStop);
       stop_client_ = request.client_id;  // the newest press is the one to clear
       stop_time_ = static_cast<double>(tick_) * a1::kControlDt;
@@ -227,7 +227,7 @@ void Controller::Apply(const ControlRequest& request) {
       stop_client_[0] = '\0';
       if (latched_faults_ == 0) {  // nothing else latched: damped and idle until told to stand
         fault_message_[0] = '\0';
-        if (mode_ == flsd_msgs_MODE_DAMP) mode_ = flsd_msgs_MODE_IDLE;
+        if (mode_ == Mode::kDamp) mode_ = Mode::kIdle;
       } else {
         DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size(),
                        backend_fault_.data());
@@ -235,12 +235,12 @@ void Controller::Apply(const ControlRequest& request) {
       break;
     case ControlRequest::Kind::kReset:
       if (!backend_.CanReset() || (latched_faults_ & kFaultStop)) return;  // as for stand
-      if (task_.state == flsd_msgs_TASK_RUNNING) EndTask(flsd_msgs_TASK_CANCELLED, "the simulation was reset");
+      if (task_.state == TaskState::kRunning) EndTask(TaskState::kCancelled, "the simulation was reset");
       backend_.Reset();
       state_ = backend_.Read();
       latched_faults_ = 0;
       fault_message_[0] = '\0';
-      pending_mode_ = flsd_msgs_MODE_IDLE;
+      pending_mode_ = Mode::kIdle;
       recoveries_ = 0;
       EnterStand();
       break;
@@ -248,7 +248,7 @@ void Controller::Apply(const ControlRequest& request) {
 }
 
 bool Controller::StopApplies(const ControlRequest& stop) const {
-  const bool running = task_.state == flsd_msgs_TASK_RUNNING;
+  const bool running = task_.state == TaskState::kRunning;
   switch (stop.scope) {
     case ControlRequest::Scope::kAny: return true;
     case ControlRequest::Scope::kClient:
@@ -260,7 +260,7 @@ bool Controller::StopApplies(const ControlRequest& stop) const {
 }
 
 void Controller::EnterStand() {
-  mode_ = flsd_msgs_MODE_STAND;
+  mode_ = Mode::kStand;
   skill_ = -1;
   lying_down_ = false;
   MoveTargets(a1::kDefaultJointPos);
@@ -291,7 +291,7 @@ void Controller::SettledStand() {
   }
   if (Standing()) {
     unverified_ticks_ = 0;
-    if (pending_mode_ != flsd_msgs_MODE_IDLE) StartPending();
+    if (pending_mode_ != Mode::kIdle) StartPending();
     return;
   }
   if (++unverified_ticks_ < Ticks(config_.stand_check.timeout)) return;  // still settling, maybe
@@ -301,22 +301,22 @@ void Controller::SettledStand() {
     return;
   }
   unverified_ticks_ = 0;
-  if (pending_mode_ == flsd_msgs_MODE_IDLE) return;  // a plain stand holds on as it is
+  if (pending_mode_ == Mode::kIdle) return;  // a plain stand holds on as it is
   char why[112];
   Standing(why, sizeof why);
   char message[192];
   std::snprintf(message, sizeof message, "not standing after %d lie-down and stand-up recoveries (%s); not started",
                 recoveries_, why);
-  EndTask(flsd_msgs_TASK_SAFETY_STOP, message);
-  pending_mode_ = flsd_msgs_MODE_IDLE;
+  EndTask(TaskState::kSafetyStop, message);
+  pending_mode_ = Mode::kIdle;
   pending_ticks_ = 0;
 }
 
 void Controller::StartPending() {
   mode_ = pending_mode_;
-  skill_ = mode_ == flsd_msgs_MODE_SKILL ? pending_skill_ : -1;
+  skill_ = mode_ == Mode::kSkill ? pending_skill_ : -1;
   task_ticks_left_ = pending_ticks_;
-  pending_mode_ = flsd_msgs_MODE_IDLE;
+  pending_mode_ = Mode::kIdle;
   pending_ticks_ = 0;
   previous_action_.fill(0.0f);  // as at the start of a training episode
   target_filter_.Reset(state_.joint_position);
@@ -357,14 +357,14 @@ bool Controller::Standing(char* why, std::size_t size) const {
 }
 
 void Controller::EnterDamp(uint32_t faults) {
-  if (task_.state == flsd_msgs_TASK_RUNNING) {
+  if (task_.state == TaskState::kRunning) {
     char message[192];
     DescribeFaults(faults, state_, config_.safety, message, sizeof message, backend_fault_.data());
-    EndTask(flsd_msgs_TASK_SAFETY_STOP, message);
+    EndTask(TaskState::kSafetyStop, message);
   }
-  mode_ = flsd_msgs_MODE_DAMP;
+  mode_ = Mode::kDamp;
   skill_ = -1;
-  pending_mode_ = flsd_msgs_MODE_IDLE;
+  pending_mode_ = Mode::kIdle;
   latched_faults_ |= faults;
   ++safety_trips_;
   DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size(),
@@ -376,11 +376,11 @@ void Controller::StartTask(const ControlRequest& request, const char* call) {
   task_.client_id = request.client_id;
   task_.request_id = request.request_id;
   SetText(task_.call, call);
-  task_.state = flsd_msgs_TASK_RUNNING;
+  task_.state = TaskState::kRunning;
   task_start_tick_ = tick_;
 }
 
-void Controller::EndTask(flsd_msgs_TaskState state, const char* message) {
+void Controller::EndTask(TaskState state, const char* message) {
   task_.state = state;
   task_.remaining = 0.0;
   SetText(task_.message, message);
@@ -428,11 +428,11 @@ JointCommand Controller::PolicyCommand() {
 }
 
 JointCommand Controller::EndTimedTask() {
-  if (mode_ == flsd_msgs_MODE_NAVIGATE) {
-    EndTask(flsd_msgs_TASK_TIMEOUT, "the navigation ran out of time");
+  if (mode_ == Mode::kNavigate) {
+    EndTask(TaskState::kTimeout, "the navigation ran out of time");
   } else {
-    EndTask(flsd_msgs_TASK_SUCCEEDED,
-            mode_ == flsd_msgs_MODE_SKILL ? "skill ran for its duration" : "velocity tracked for its duration");
+    EndTask(TaskState::kSucceeded,
+            mode_ == Mode::kSkill ? "skill ran for its duration" : "velocity tracked for its duration");
   }
   EnterStand();
   return StandCommand();

@@ -11,7 +11,7 @@
 #include <mutex>
 #include <optional>
 
-#include "flsd_msgs.h"
+#include "comm/modes.h"
 #include "robot/backend.h"
 #include "robot/observation.h"
 #include "robot/target_filter.h"
@@ -33,7 +33,7 @@ struct TaskStatus {
   ClientId client_id{};
   uint64_t request_id = 0;
   std::array<char, 24> call{};
-  flsd_msgs_TaskState state = flsd_msgs_TASK_NONE;
+  TaskState state = TaskState::kNone;
   double elapsed = 0.0;    // s since the request was taken
   double remaining = 0.0;  // s until it ends (standing up included)
   FixedText message{};
@@ -44,7 +44,7 @@ struct ControllerStatus {
   RobotState state;
   uint64_t tick = 0;
   double time = 0.0;  // s, tick * control period
-  flsd_msgs_Mode mode = flsd_msgs_MODE_IDLE;
+  Mode mode = Mode::kIdle;
   int skill = -1;
   uint32_t faults = 0;  // latched since the last stop; zero while none is latched
   FixedText fault_message{};
@@ -70,7 +70,7 @@ struct ControlRequest {
   bool navigate = false;             // kVelocity: a navigation's task
   ClientId client_id{};
   uint64_t request_id = 0;
-  flsd_msgs_TaskState stop_state = flsd_msgs_TASK_CANCELLED;  // kStop: how the current task ends
+  TaskState stop_state = TaskState::kCancelled;  // kStop: how the current task ends
   // kStop: what it ends. A stop on behalf of one client (its lease lapsed, it released control)
   // must not end the task of the client that took control after it.
   // kClient with a request_id: only a task from before it (a release must not end the task the same
@@ -129,7 +129,7 @@ class Controller {
   bool Standing(char* why = nullptr, std::size_t size = 0) const;
   void EnterDamp(uint32_t faults);
   void StartTask(const ControlRequest& request, const char* call);
-  void EndTask(flsd_msgs_TaskState state, const char* message);
+  void EndTask(TaskState state, const char* message);
   JointCommand StandCommand();
   JointCommand SkillCommand();
   JointCommand VelocityCommand();
@@ -152,7 +152,7 @@ class Controller {
   // Control-thread state.
   RobotState state_;
   uint64_t tick_ = 0;
-  flsd_msgs_Mode mode_ = flsd_msgs_MODE_IDLE;
+  Mode mode_ = Mode::kIdle;
   uint32_t latched_faults_ = 0;
   uint32_t hazards_ = 0;
   FixedText fault_message_{};
@@ -170,7 +170,7 @@ class Controller {
   int stand_move_ticks_ = 1;   // moving the targets to the default pose
   int stand_total_ticks_ = 1;  // then holding them while the robot settles
   // What starts once standing: a skill, or a velocity task; kIdle for nothing.
-  flsd_msgs_Mode pending_mode_ = flsd_msgs_MODE_IDLE;
+  Mode pending_mode_ = Mode::kIdle;
   int pending_skill_ = -1;
   int pending_ticks_ = 0;
   int skill_ = -1;  // the skill running (chosen by the selector in the velocity modes)

@@ -183,7 +183,7 @@ void DdsService::PublishState() {
     m.time = s.time;
     m.tick = s.tick;
     m.backend = Text(backend_name_);
-    m.mode = s.mode;
+    m.mode = dds::ToIdl(s.mode);
     m.skill = s.skill;
     const RobotState& r = s.state;
     for (int i = 0; i < 3; ++i) {
@@ -207,7 +207,7 @@ void DdsService::PublishState() {
     m.task.client_id = s.task.client_id.data();
     m.task.request_id = s.task.request_id;
     m.task.call = s.task.call.data();
-    m.task.state = s.task.state;
+    m.task.state = dds::ToIdl(s.task.state);
     m.task.elapsed = s.task.elapsed;
     m.task.remaining = s.task.remaining;
     m.task.message = s.task.message.data();

@@ -24,7 +24,7 @@ std::string Format(const char* format, Numbers... numbers) {
 }
 
 bool IsOurs(const ControllerStatus& s, const NavigationJob& job) {
-  return s.task.state == flsd_msgs_TASK_RUNNING && s.task.request_id == job.request_id &&
+  return s.task.state == TaskState::kRunning && s.task.request_id == job.request_id &&
          s.task.client_id == job.client_id;
 }
 
@@ -98,7 +98,7 @@ void Navigator::Run() {
     try {
       if (!request.reply || Accept(request, generation)) Navigate(job, generation);
     } catch (const std::exception& e) {  // never let a navigation take the server down
-      Finish(job, flsd_msgs_TASK_CANCELLED, std::string("navigation failed: ") + e.what());
+      Finish(job, TaskState::kCancelled, std::string("navigation failed: ") + e.what());
     }
     lock.lock();
     path_.clear();
@@ -137,7 +137,7 @@ bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, Plan
   options.clearance_margin = config_.clearance_margin;
   path = PlanPath(job.map, from, job.goal, options);
   if (path.status != PlannedPath::Status::kFound) {
-    Finish(job, flsd_msgs_TASK_NO_PATH, path.message);
+    Finish(job, TaskState::kNoPath, path.message);
     return false;
   }
   std::vector<double> flat;
@@ -172,16 +172,16 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
     seen = true;
     if (elapsed > job.timeout) {
       const double left = (job.goal - status.state.base_position.head<2>()).norm();
-      Finish(job, flsd_msgs_TASK_TIMEOUT,
+      Finish(job, TaskState::kTimeout,
              Format("timeout after %.0f s, %.2f m from the goal, %.0f replans", elapsed, left, replans));
       return;
     }
-    if (status.mode != flsd_msgs_MODE_NAVIGATE) continue;  // still standing up
+    if (status.mode != Mode::kNavigate) continue;  // still standing up
     const Eigen::Vector2d position = status.state.base_position.head<2>();
     const double free_clearance = job.map.Clearance(position) - job.map.robot_radius;
     const FollowerCommand command = follower.Update(position, Yaw(status.state.base_orientation), free_clearance);
     if (command.reached) {
-      Finish(job, flsd_msgs_TASK_SUCCEEDED,
+      Finish(job, TaskState::kSucceeded,
              Format("reached (%.2f, %.2f), %.2f m from the goal, %.0f replans", position.x(), position.y(),
                     (job.goal - position).norm(), replans));
       return;
@@ -218,7 +218,7 @@ void Navigator::Steer(const NavigationJob& job, const Eigen::Vector3d& velocity,
   controller_.Submit(update);  // a full queue drops one update; the next one comes within a period
 }
 
-void Navigator::Finish(const NavigationJob& job, flsd_msgs_TaskState state, const std::string& message) {
+void Navigator::Finish(const NavigationJob& job, TaskState state, const std::string& message) {
   ControlRequest stop;
   stop.kind = ControlRequest::Kind::kStop;
   stop.client_id = job.client_id;

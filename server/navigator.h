@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "flsd_msgs.h"
 #include "server/controller.h"
 #include "server/navigation/map2d.h"
 #include "server/navigation/path_planner.h"
@@ -68,7 +69,7 @@ class Navigator {
   bool Accept(MapRequest& request, uint64_t generation);
   void Navigate(const NavigationJob& job, uint64_t generation);
   bool Plan(const NavigationJob& job, const Eigen::Vector2d& from, PlannedPath& path);
-  void Finish(const NavigationJob& job, flsd_msgs_TaskState state, const std::string& message);
+  void Finish(const NavigationJob& job, TaskState state, const std::string& message);
   void Steer(const NavigationJob& job, const Eigen::Vector3d& velocity, const std::string& progress);
   bool Superseded(uint64_t generation) const;
 

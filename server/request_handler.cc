@@ -81,12 +81,12 @@ bool RequestHandler::TakeToken(ClientState& client, double now) {
 void RequestHandler::Poll(double now) {
   const std::string holder = lease_.holder();
   if (lease_.Expire(now)) {
-    StopTaskOf(holder, flsd_msgs_TASK_LEASE_LOST,
+    StopTaskOf(holder, TaskState::kLeaseLost,
                "control lease of " + holder + " lapsed after " + Seconds(lease_.timeout()) + " without a request; standing");
   }
 }
 
-void RequestHandler::StopTaskOf(const std::string& client_id, flsd_msgs_TaskState state, const std::string& reason,
+void RequestHandler::StopTaskOf(const std::string& client_id, TaskState state, const std::string& reason,
                                 uint64_t before) {
   if (navigator_ != nullptr) navigator_->Cancel();
   ControlRequest stop;
@@ -172,7 +172,7 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     if (!lease_.Release(client_id)) {
       return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "this client does not hold control");
     }
-    StopTaskOf(client_id, flsd_msgs_TASK_CANCELLED, "control released", request.header.request_id);
+    StopTaskOf(client_id, TaskState::kCancelled, "control released", request.header.request_id);
     return Reply(flsd_msgs_STATUS_OK, "control released; the robot stands");
   }
   if (call == dds::Call::kDamp) {  // the emergency stop: anyone may press it
@@ -407,7 +407,7 @@ bool RequestHandler::Submit(ControlRequest request, const std::string& client_id
 }
 
 std::string RequestHandler::StatusText(const ControllerStatus& s) const {
-  std::string text = std::string("mode ") + dds::ModeName(s.mode);
+  std::string text = std::string("mode ") + dds::ModeName(dds::ToIdl(s.mode));
   if (s.skill >= 0) text += " " + std::to_string(s.skill);
   text += ", t " + Seconds(s.time) + ", control " + (lease_.held() ? lease_.holder() : std::string("free"));
   text += ", faults " + (s.faults != 0 ? std::string(s.fault_message.data()) : std::string("none"));

@@ -74,7 +74,7 @@ class RequestHandler {
                                        const DeferredReply& later);
   // A stop of `client_id`'s task, never lost to a full queue, and of a navigation still reading its map.
   // `before` (nonzero): only a task that request preceded; the client may start the next at once.
-  void StopTaskOf(const std::string& client_id, flsd_msgs_TaskState state, const std::string& reason,
+  void StopTaskOf(const std::string& client_id, TaskState state, const std::string& reason,
                   uint64_t before = 0);
   // Why the robot cannot start moving now (a latched stop, a hazard), or empty.
   std::string MotionBlocked(const ControllerStatus& status) const;

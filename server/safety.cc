@@ -23,16 +23,6 @@ uint32_t SafetySupervisor::Hazards(const RobotState& state, const SafetyConfig& 
   return faults;
 }
 
-TerminationConfig TerminationOf(const SafetyConfig& config) {
-  TerminationConfig t;
-  t.max_tilt = config.max_tilt;
-  t.min_base_height = config.min_base_height;
-  t.max_joint_speed = config.max_joint_velocity;
-  t.max_joint_speed_time = config.max_joint_velocity_time;
-  t.joint_range_margin = config.joint_range_margin;
-  return t;
-}
-
 uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_height) {
   uint32_t faults = Hazards(state, config_);
   if (check_height && config_.min_base_height > 0.0 && !(state.base_position.z() >= config_.min_base_height)) {

@@ -7,7 +7,6 @@
 
 #include "robot/joint_limit_timer.h"
 #include "robot/robot_state.h"
-#include "sim/env_config.h"
 #include "server/server_config.h"
 
 namespace flsd {
@@ -24,11 +23,6 @@ enum FaultBit : uint32_t {
   kFaultStop = 1u << 7,           // an emergency stop (damp) from a client
   kFaultPower = 1u << 8,          // mechanical power sum |tau qdot| above its limit for too long
 };
-
-// The episode ending by which a simulated A1 stops where this supervisor would stop it (tilt,
-// height, joint range and speed; torque saturation and power are left out): to train skills under
-// the limits they are served under, and to check a library by them.
-TerminationConfig TerminationOf(const SafetyConfig& config);
 
 // Writes "tilt 1.31 rad > 1.00; ..." for `faults` into out (always terminated); `backend` is the
 // backend's own account of a kFaultBackend.

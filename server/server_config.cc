@@ -7,7 +7,7 @@ namespace flsd {
 
 ServerConfig LoadServerConfig(const std::string& path) {
   ServerConfig config;
-  ReadConfig(LoadYamlFile(path), path + ":", config);
+  ReadConfig(LoadConfigFile(path), path + ":", config);
   if (config.selector != "auto") {
     try {
       ParseSelectorKind(config.selector);

@@ -6,10 +6,10 @@
 
 #include "comm/security.h"
 #include "core/config.h"
-#include "hw/hw_backend.h"
+#include "hw/hw_config.h"
 #include "robot/a1.h"
 #include "server/navigation/waypoint_follower.h"
-#include "sim/sim_backend.h"
+#include "sim/sim_backend_config.h"
 
 namespace flsd {
 

@@ -11,6 +11,7 @@
 #include "core/check.h"
 #include "core/paths.h"
 #include "core/signals.h"
+#include "hw/hw_backend.h"
 #include "server/control_loop.h"
 #include "server/dds_service.h"
 #include "sim/sim_backend.h"

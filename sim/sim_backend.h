@@ -5,25 +5,11 @@
 
 #include <string>
 
-#include "core/config.h"
 #include "robot/backend.h"
 #include "sim/env.h"
+#include "sim/sim_backend_config.h"
 
 namespace flsd {
-
-struct SimBackendConfig {
-  std::string model = "robot/a1/scene.xml";
-  // The training randomisation (friction, masses, delay, motor strength, pushes) for testing a
-  // library's robustness in the server; off by default: the nominal robot on the nominal floor.
-  bool randomize = false;
-  int seed = 1;
-  template <class V>
-  void Visit(V& v) {
-    v("model", model);
-    v("randomize", randomize);
-    v("seed", seed, Bounds<int>{0, 2147483647});
-  }
-};
 
 class SimBackend final : public Backend {
  public:

@@ -1,4 +1,5 @@
-// HwBackend against the robot emulator on loopback: the pre-flight check passes on a healthy
+// HwBackend against the robot emulator on loopback, on the wall clock (label timing; the fault
+// logic alone, on a stepped clock: driver_monitor_test.cc): the pre-flight check passes on a healthy
 // robot and names what is wrong otherwise; the driver holds its rate; and every injected fault
 // (silence, corrupted or late frames, a frozen sensor, a dead motor) becomes a backend fault,
 // while dropped frames alone do not.

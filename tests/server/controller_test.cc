@@ -43,8 +43,8 @@ double MaxJointError(const RobotState& s) {
 }
 
 TEST_F(ControllerTest, IdleDampsTheRobotDownToTheFloor) {
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
-  EXPECT_EQ(RunFor(2.0, flsd_msgs_MODE_IDLE), 100);
+  EXPECT_EQ(controller_.status().mode, Mode::kIdle);
+  EXPECT_EQ(RunFor(2.0, Mode::kIdle), 100);
   EXPECT_LT(controller_.status().state.base_position.z(), 0.15);
   EXPECT_EQ(controller_.status().faults, 0u);  // lying down while idle is no fault
 }
@@ -63,11 +63,11 @@ TEST_F(ControllerTest, SkillRunsForItsDurationThenStands) {
   StandUp();
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 2, 1.0)));
   // Standing already, it still settles in the default pose for half a second first.
-  const int skill_ticks = RunFor(3.0, flsd_msgs_MODE_SKILL);
+  const int skill_ticks = RunFor(3.0, Mode::kSkill);
   const ControllerStatus s = controller_.status();
   EXPECT_EQ(skill_ticks, 50);
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SUCCEEDED);
+  EXPECT_EQ(s.mode, Mode::kStand);
+  EXPECT_EQ(s.task.state, TaskState::kSucceeded);
   EXPECT_EQ(s.task.request_id, 42u);
   EXPECT_STREQ(s.task.client_id.data(), "test-client");
   EXPECT_STREQ(s.task.call.data(), "execute_skill");
@@ -79,11 +79,11 @@ TEST_F(ControllerTest, ASkillFromIdleStandsUpFirstAndCountsTheStandInItsRemainin
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 1, 2.0)));
   controller_.Tick();
   const ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_RUNNING);
+  EXPECT_EQ(s.mode, Mode::kStand);
+  EXPECT_EQ(s.task.state, TaskState::kRunning);
   EXPECT_GT(s.task.remaining, 2.5);  // 2 s of skill after rising and settling
-  EXPECT_EQ(RunFor(6.0, flsd_msgs_MODE_SKILL), 100);
-  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_SUCCEEDED);
+  EXPECT_EQ(RunFor(6.0, Mode::kSkill), 100);
+  EXPECT_EQ(controller_.status().task.state, TaskState::kSucceeded);
 }
 
 TEST_F(ControllerTest, DampLatchesUntilClearedAndIgnoresStandsAndSkillsMeanwhile) {
@@ -95,30 +95,30 @@ TEST_F(ControllerTest, DampLatchesUntilClearedAndIgnoresStandsAndSkillsMeanwhile
   ASSERT_TRUE(controller_.Submit(damp));
   controller_.Tick();
   ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(s.mode, Mode::kDamp);
   EXPECT_EQ(s.faults & kFaultStop, kFaultStop);
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_CANCELLED);
+  EXPECT_EQ(s.task.state, TaskState::kCancelled);
   EXPECT_STREQ(s.task.message.data(), "emergency stop from test");
 
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 5.0)));
   RunFor(0.5);
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
 
   // Nor does a stand lift it: only a clear, after which the robot lies damped until it stands.
   ASSERT_TRUE(controller_.Submit(Request(Kind::kStand)));
   RunFor(0.5);
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
   EXPECT_STREQ(controller_.status().stop_client.data(), "test-client");
   ControlRequest stale = Request(Kind::kClearStop);  // for an earlier press: ignored
   stale.pressed_at = controller_.status().stop_time - 0.02;
   ASSERT_TRUE(controller_.Submit(stale));
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
   ControlRequest clear = Request(Kind::kClearStop);
   clear.pressed_at = controller_.status().stop_time;
   ASSERT_TRUE(controller_.Submit(clear));
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+  EXPECT_EQ(controller_.status().mode, Mode::kIdle);
   EXPECT_EQ(controller_.status().faults, 0u);
   StandUp();
 }
@@ -130,8 +130,8 @@ TEST_F(ControllerTest, ASkillThatRacesADampEndsAsASafetyStopInsteadOfVanishing) 
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 5.0)));
   controller_.Tick();
   const ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_DAMP);
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SAFETY_STOP);
+  EXPECT_EQ(s.mode, Mode::kDamp);
+  EXPECT_EQ(s.task.state, TaskState::kSafetyStop);
   EXPECT_EQ(s.task.request_id, 42u);
   EXPECT_THAT(s.task.message.data(), HasSubstr("latched before the skill could start"));
 }
@@ -146,8 +146,8 @@ TEST_F(ControllerTest, ASkillIsNotStartedOnARobotLyingOnItsSide) {
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 2.0)));
   controller_.Tick();
   const ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_IDLE);
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SAFETY_STOP);
+  EXPECT_EQ(s.mode, Mode::kIdle);
+  EXPECT_EQ(s.task.state, TaskState::kSafetyStop);
   EXPECT_THAT(s.task.message.data(), HasSubstr("tilt"));
 }
 
@@ -157,7 +157,7 @@ TEST_F(ControllerTest, UrgentStopsOverrideAFullQueue) {
   }
   controller_.SubmitUrgent(Request(Kind::kDamp));
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);  // applied after the queue's stands
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);  // applied after the queue's stands
 }
 
 TEST_F(ControllerTest, StandIsIgnoredWhileTheBackendIsFaulted) {
@@ -165,11 +165,11 @@ TEST_F(ControllerTest, StandIsIgnoredWhileTheBackendIsFaulted) {
   backend_.env().data().qvel[0] = NAN;
   controller_.Tick();
   controller_.Tick();
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  ASSERT_EQ(controller_.status().mode, Mode::kDamp);
   EXPECT_NE(controller_.status().hazards & kFaultBackend, 0u);
   ASSERT_TRUE(controller_.Submit(Request(Kind::kStand)));
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
   EXPECT_NE(controller_.status().faults, 0u);
 }
 
@@ -188,9 +188,9 @@ TEST_F(ControllerTest, AFallDuringASkillTripsToDampingAndEndsTheTask) {
   backend_.env().SyncState();
   controller_.Tick();
   const ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(s.mode, Mode::kDamp);
   EXPECT_EQ(s.faults & kFaultTilt, kFaultTilt);
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SAFETY_STOP);
+  EXPECT_EQ(s.task.state, TaskState::kSafetyStop);
   EXPECT_THAT(s.task.message.data(), HasSubstr("tilt"));
   EXPECT_THAT(s.fault_message.data(), HasSubstr("tilt"));
   EXPECT_EQ(s.safety_trips, 1u);
@@ -202,14 +202,14 @@ TEST_F(ControllerTest, AnUnstableSimulationIsABackendFaultThatResetClears) {
   controller_.Tick();  // the backend finds the fault while it steps...
   controller_.Tick();  // ...and the supervisor reads it at the start of the next tick
   ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(s.mode, Mode::kDamp);
   EXPECT_EQ(s.faults & kFaultBackend, kFaultBackend);
   EXPECT_THAT(backend_.Fault(), HasSubstr("unstable simulation"));
 
   ASSERT_TRUE(controller_.Submit(Request(Kind::kReset)));
   RunFor(1.0);
   s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(s.mode, Mode::kStand);
   EXPECT_EQ(s.faults, 0u);
   EXPECT_GT(s.state.base_position.z(), 0.22);
 }
@@ -218,15 +218,15 @@ TEST_F(ControllerTest, StopEndsASkillEarlyAndStands) {
   StandUp();
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 3, 10.0)));
   RunFor(1.5);
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  ASSERT_EQ(controller_.status().mode, Mode::kSkill);
   ControlRequest stop = Request(Kind::kStop);
-  stop.stop_state = flsd_msgs_TASK_LEASE_LOST;
+  stop.stop_state = TaskState::kLeaseLost;
   SetText(stop.reason, "lease lapsed");
   ASSERT_TRUE(controller_.Submit(stop));
   controller_.Tick();
   const ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_LEASE_LOST);
+  EXPECT_EQ(s.mode, Mode::kStand);
+  EXPECT_EQ(s.task.state, TaskState::kLeaseLost);
   EXPECT_STREQ(s.task.message.data(), "lease lapsed");
 }
 
@@ -242,12 +242,12 @@ TEST_F(ControllerTest, TheControlTickAllocatesNothing) {
   StandUp();
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 1.5)));
   RunFor(1.0);  // into the skill
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  ASSERT_EQ(controller_.status().mode, Mode::kSkill);
   EXPECT_EQ(testutil::CountMallocs([&] {
               for (int i = 0; i < 100; ++i) controller_.Tick();  // skill, then stand again
             }),
             0);
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(controller_.status().mode, Mode::kStand);
 }
 
 // The selector runs the skills each tick: the published skill is the selector's choice, and the
@@ -264,7 +264,7 @@ TEST_F(ControllerTest, VelocityModeRunsTheSelectorsSkillsForItsDuration) {
   for (int i = 0; i < 200; ++i) {
     controller_.Tick();
     const ControllerStatus s = controller_.status();
-    if (s.mode == flsd_msgs_MODE_VELOCITY) {
+    if (s.mode == Mode::kVelocity) {
       ++in_velocity;
       ASSERT_GE(s.skill, 0);
       ASSERT_LT(s.skill, controller_.library().num_skills());
@@ -273,9 +273,9 @@ TEST_F(ControllerTest, VelocityModeRunsTheSelectorsSkillsForItsDuration) {
   }
   EXPECT_NEAR(in_velocity, 100, 2);  // 2 s at 50 Hz
   EXPECT_FALSE(chosen.empty());
-  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_SUCCEEDED);
+  EXPECT_EQ(controller_.status().task.state, TaskState::kSucceeded);
   EXPECT_THAT(controller_.status().task.message.data(), HasSubstr("velocity tracked"));
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(controller_.status().mode, Mode::kStand);
 }
 
 // The navigator's steering and its ending apply only to the navigation they belong to.
@@ -283,19 +283,19 @@ TEST_F(ControllerTest, UpdatesAndStopsForAnotherTaskAreIgnored) {
   StandUp();
   ASSERT_TRUE(controller_.Submit(VelocityRequest(0.0, 0.0, 10.0, /*navigate=*/true)));
   RunFor(1.0);
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_NAVIGATE);
+  ASSERT_EQ(controller_.status().mode, Mode::kNavigate);
   ControlRequest update = Request(Kind::kVelocityUpdate);
   update.request_id = 7;  // not the running task's (42)
   SetText(update.reason, "stale");
   ControlRequest stop = Request(Kind::kStop);
   stop.request_id = 7;
   stop.scope = ControlRequest::Scope::kTask;
-  stop.stop_state = flsd_msgs_TASK_NO_PATH;
+  stop.stop_state = TaskState::kNoPath;
   ASSERT_TRUE(controller_.Submit(update));
   ASSERT_TRUE(controller_.Submit(stop));
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_NAVIGATE);
-  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_RUNNING);
+  EXPECT_EQ(controller_.status().mode, Mode::kNavigate);
+  EXPECT_EQ(controller_.status().task.state, TaskState::kRunning);
   EXPECT_THAT(controller_.status().task.message.data(), ::testing::Not(HasSubstr("stale")));
 
   update.request_id = 42;
@@ -307,8 +307,8 @@ TEST_F(ControllerTest, UpdatesAndStopsForAnotherTaskAreIgnored) {
   SetText(stop.reason, "the goal is walled in");
   ASSERT_TRUE(controller_.Submit(stop));
   controller_.Tick();
-  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_NO_PATH);
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(controller_.status().task.state, TaskState::kNoPath);
+  EXPECT_EQ(controller_.status().mode, Mode::kStand);
 }
 
 // A client releasing control and starting its next task within one tick: the queue applies the
@@ -325,12 +325,12 @@ TEST_F(ControllerTest, AReleasesStopSparesTheTaskTheSameClientStartsAfterIt) {
   ASSERT_TRUE(controller_.Submit(next));
   controller_.Tick();
   EXPECT_EQ(controller_.status().task.request_id, 44u);
-  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_RUNNING);
+  EXPECT_EQ(controller_.status().task.state, TaskState::kRunning);
 
   release.request_id = 45;  // a release after it ends it
   controller_.SubmitUrgent(release);
   controller_.Tick();
-  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_CANCELLED);
+  EXPECT_EQ(controller_.status().task.state, TaskState::kCancelled);
   EXPECT_STREQ(controller_.status().task.message.data(), "control released");
 }
 
@@ -370,7 +370,7 @@ TEST(ControllerTargetFilter, ASkillRunsBehindTheLibrarysFilterFromThePoseItStart
   ASSERT_TRUE(controller.Submit(skill));
   // Tick until the skill's first command; the pose it starts from is the last state read.
   RobotState start;
-  while (controller.status().mode != flsd_msgs_MODE_SKILL) {
+  while (controller.status().mode != Mode::kSkill) {
     start = backend.sim.Read();
     controller.Tick();
   }
@@ -396,7 +396,7 @@ TEST_F(ControllerTest, TheVelocityTickAllocatesNothing) {
   StandUp();
   ASSERT_TRUE(controller_.Submit(VelocityRequest(-0.5, 0.3, 1.5)));
   RunFor(1.0);
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_VELOCITY);
+  ASSERT_EQ(controller_.status().mode, Mode::kVelocity);
   EXPECT_EQ(testutil::CountMallocs([&] {
               for (int i = 0; i < 100; ++i) controller_.Tick();
             }),
@@ -421,17 +421,17 @@ TEST_F(ControllerTest, SkillsRunBackToBackOnlyFromAVerifiedStand) {
     const int k = fastest[i].second;
     ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, k, 4.0)));
     controller_.Tick();
-    for (int t = 0; t < 1000 && controller_.status().mode == flsd_msgs_MODE_STAND; ++t) controller_.Tick();
+    for (int t = 0; t < 1000 && controller_.status().mode == Mode::kStand; ++t) controller_.Tick();
     ControllerStatus s = controller_.status();
-    ASSERT_EQ(s.mode, flsd_msgs_MODE_SKILL) << "skill " << k << ": " << s.task.message.data();
+    ASSERT_EQ(s.mode, Mode::kSkill) << "skill " << k << ": " << s.task.message.data();
     EXPECT_LE(SafetySupervisor::Tilt(s.state), check.max_tilt) << k;
     EXPECT_GE(s.state.base_position.z(), check.min_base_height) << k;
     EXPECT_LE(MaxJointError(s.state), check.max_joint_error + 0.05) << k;  // one policy tick in
-    for (int t = 0; t < 300 && s.task.state == flsd_msgs_TASK_RUNNING; ++t) {
+    for (int t = 0; t < 300 && s.task.state == TaskState::kRunning; ++t) {
       controller_.Tick();
       s = controller_.status();
     }
-    EXPECT_EQ(s.task.state, flsd_msgs_TASK_SUCCEEDED) << "skill " << k << ": " << s.task.message.data();
+    EXPECT_EQ(s.task.state, TaskState::kSucceeded) << "skill " << k << ": " << s.task.message.data();
     ASSERT_EQ(s.faults, 0u) << "skill " << k << ": " << s.fault_message.data();
   }
 }
@@ -451,19 +451,19 @@ TEST(ControllerStandCheck, ARobotThatDoesNotStandHasItsSkillEndedWithTheReason) 
   ASSERT_TRUE(controller.Submit(skill));
   double lowest = HUGE_VAL;  // once it has stood
   bool stood = false;
-  for (int t = 0; t < 1000 && controller.status().task.state != flsd_msgs_TASK_SAFETY_STOP; ++t) {
+  for (int t = 0; t < 1000 && controller.status().task.state != TaskState::kSafetyStop; ++t) {
     controller.Tick();
     const ControllerStatus s = controller.status();
-    ASSERT_NE(s.mode, flsd_msgs_MODE_SKILL);
+    ASSERT_NE(s.mode, Mode::kSkill);
     stood |= s.state.base_position.z() > 0.22;
     if (stood) lowest = std::min(lowest, s.state.base_position.z());
   }
   const ControllerStatus s = controller.status();
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_SAFETY_STOP);
+  EXPECT_EQ(s.task.state, TaskState::kSafetyStop);
   EXPECT_THAT(s.task.message.data(), HasSubstr("not standing after 1 lie-down and stand-up recoveries ("));
   EXPECT_THAT(s.task.message.data(), HasSubstr("off the stand > 0.01"));
   EXPECT_LT(lowest, 0.1);  // it lay down once, between its two stands
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(s.mode, Mode::kStand);
   EXPECT_EQ(s.faults, 0u);
 }
 

@@ -94,7 +94,7 @@ TEST_F(RequestHandlerTest, AnyClientMayDamp) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
   EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
   const ReplyContent skill = Skill("a", 0, 1.0, 0.2);
   EXPECT_EQ(skill.status, flsd_msgs_STATUS_SAFETY_STOP);
   EXPECT_THAT(skill.message, HasSubstr("an emergency stop from b is latched; call clear_stop"));
@@ -105,7 +105,7 @@ TEST_F(RequestHandlerTest, DampGetsThroughAQueueFloodedByTheController) {
   for (int i = 0; i < 40; ++i) Send("a", "stand", 0.001 * i);  // more than the queue holds
   EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
 }
 
 TEST_F(RequestHandlerTest, BadArgumentsAreRefusedWithTheReason) {
@@ -164,7 +164,7 @@ TEST_F(RequestHandlerTest, VelocityOutsideTheTrainedRangeIsClippedAndTheReplySay
   EXPECT_THAT(r.message, HasSubstr("vx clipped to 1.00"));
   EXPECT_THAT(r.message, HasSubstr("wz clipped to -1.00"));
   EXPECT_THAT(r.message, ::testing::Not(HasSubstr("vy clipped")));
-  EXPECT_GT(RunFor(3.0, flsd_msgs_MODE_VELOCITY), 0);
+  EXPECT_GT(RunFor(3.0, Mode::kVelocity), 0);
 }
 
 // Answers that come later, from the navigator's thread.
@@ -331,7 +331,7 @@ TEST_F(RequestHandlerTest, RequestsPastTheirDeadlineAreNotExecuted) {
   EXPECT_EQ(r.status, flsd_msgs_STATUS_DEADLINE_EXCEEDED);
   EXPECT_THAT(r.message, HasSubstr("arrived 0.25 s after its deadline"));
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+  EXPECT_EQ(controller_.status().mode, Mode::kIdle);
   // A deadline before 1970 is no time at all: refused by name, not by an overflowed lateness.
   TestRequest ancient("a", 101, "stand");
   ancient.msg.header.deadline_ns = INT64_MIN;
@@ -368,15 +368,15 @@ TEST_F(RequestHandlerTest, ASilentControllerLosesTheLeaseAndTheRobotStands) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
   ASSERT_EQ(Skill("a", 0, 30.0, 0.0).status, flsd_msgs_STATUS_OK);
   for (int i = 0; i < 150; ++i) controller_.Tick();  // rise, settle, start the skill
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  ASSERT_EQ(controller_.status().mode, Mode::kSkill);
   handler_.Poll(0.9);
   controller_.Tick();
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);  // not yet lapsed
+  ASSERT_EQ(controller_.status().mode, Mode::kSkill);  // not yet lapsed
   handler_.Poll(1.01);
   controller_.Tick();
   const ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.mode, flsd_msgs_MODE_STAND);
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_LEASE_LOST);
+  EXPECT_EQ(s.mode, Mode::kStand);
+  EXPECT_EQ(s.task.state, TaskState::kLeaseLost);
   EXPECT_THAT(s.task.message.data(), HasSubstr("control lease of a lapsed"));
   EXPECT_EQ(handler_.controller_id(), "");
   EXPECT_EQ(Send("b", "acquire_control", 1.1).status, flsd_msgs_STATUS_OK);
@@ -391,7 +391,7 @@ TEST_F(RequestHandlerTest, StandIsRefusedWhileTheRobotLiesOnItsSide) {
   d.qpos[backend_.env().index().root_qpos + 4] = std::sin(0.8);
   backend_.env().SyncState();
   controller_.Tick();
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  ASSERT_EQ(controller_.status().mode, Mode::kDamp);
   const ReplyContent r = Send("a", "stand", 0.5);
   EXPECT_EQ(r.status, flsd_msgs_STATUS_SAFETY_STOP);
   EXPECT_THAT(r.message, HasSubstr("cannot stand: tilt"));
@@ -401,17 +401,17 @@ TEST_F(RequestHandlerTest, StandIsRefusedWhileTheRobotLiesOnItsSide) {
   EXPECT_EQ(Send("a", "status", 0.6).safety_report, "");
   EXPECT_EQ(Send("a", "reset", 0.7).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(controller_.status().mode, Mode::kStand);
 }
 
 TEST_F(RequestHandlerTest, AnEmergencyStopLatchesUntilItsPresserOrTheHoldTimeClearsIt) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
   ASSERT_EQ(Send("a", "stand").status, flsd_msgs_STATUS_OK);
   RunFor(3.0);
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+  ASSERT_EQ(controller_.status().mode, Mode::kStand);
   EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  ASSERT_EQ(controller_.status().mode, Mode::kDamp);
   // The holder's next stand does not undo it, on either side of the queue.
   const ReplyContent stand = Send("a", "stand", 0.12);
   EXPECT_EQ(stand.status, flsd_msgs_STATUS_SAFETY_STOP);
@@ -420,7 +420,7 @@ TEST_F(RequestHandlerTest, AnEmergencyStopLatchesUntilItsPresserOrTheHoldTimeCle
   raced.kind = ControlRequest::Kind::kStand;
   ASSERT_TRUE(controller_.Submit(raced));
   RunFor(0.5);
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_DAMP);
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
   const ReplyContent early = Send("a", "clear_stop", 0.2);
   EXPECT_EQ(early.status, flsd_msgs_STATUS_SAFETY_STOP);
   EXPECT_THAT(early.message, HasSubstr("b may at once, any client after 10.00 s"));
@@ -428,48 +428,48 @@ TEST_F(RequestHandlerTest, AnEmergencyStopLatchesUntilItsPresserOrTheHoldTimeCle
   // The presser may clear it at once; the robot stays damped until it is told to stand.
   EXPECT_EQ(Send("b", "clear_stop", 0.3).status, flsd_msgs_STATUS_OK);
   RunFor(0.5);
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+  EXPECT_EQ(controller_.status().mode, Mode::kIdle);
   EXPECT_EQ(controller_.status().faults, 0u);
   EXPECT_EQ(Send("a", "stand", 0.4).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+  EXPECT_EQ(controller_.status().mode, Mode::kStand);
 
   // Anyone may clear it once it has been held for stop_hold_time.
   EXPECT_EQ(Send("b", "damp", 0.5).status, flsd_msgs_STATUS_OK);
   RunFor(config_.safety.stop_hold_time + 0.1);
   EXPECT_EQ(Send("a", "clear_stop", 0.6).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_IDLE);
+  EXPECT_EQ(controller_.status().mode, Mode::kIdle);
 }
 
 TEST_F(RequestHandlerTest, ReleasingControlStopsOnlyTheReleasersTask) {
   ASSERT_EQ(Send("x", "acquire_control").status, flsd_msgs_STATUS_OK);
   ASSERT_EQ(Skill("x", 0, 30.0).status, flsd_msgs_STATUS_OK);
   RunFor(3.0);  // control time; the handler's clock stands still
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  ASSERT_EQ(controller_.status().mode, Mode::kSkill);
   // Within one tick: X hands over, Y takes control and starts a skill of its own.
   EXPECT_EQ(Send("x", "release_control", 0.5).status, flsd_msgs_STATUS_OK);
   EXPECT_EQ(Send("y", "acquire_control", 0.501).status, flsd_msgs_STATUS_OK);
   EXPECT_EQ(Skill("y", 1, 3.0, 0.502).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
   const ControllerStatus s = controller_.status();
-  EXPECT_EQ(s.task.state, flsd_msgs_TASK_RUNNING) << s.task.message.data();
+  EXPECT_EQ(s.task.state, TaskState::kRunning) << s.task.message.data();
   EXPECT_STREQ(s.task.client_id.data(), "y");
   // Y's own lease, when it lapses, ends Y's task.
   handler_.Poll(1.6);
   controller_.Tick();
-  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_LEASE_LOST);
+  EXPECT_EQ(controller_.status().task.state, TaskState::kLeaseLost);
 }
 
 TEST_F(RequestHandlerTest, ReleasingControlStopsTheMotion) {
   ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
   ASSERT_EQ(Skill("a", 0, 30.0).status, flsd_msgs_STATUS_OK);
   for (int i = 0; i < 150; ++i) controller_.Tick();
-  ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_SKILL);
+  ASSERT_EQ(controller_.status().mode, Mode::kSkill);
   EXPECT_EQ(Send("a", "release_control", 0.5).status, flsd_msgs_STATUS_OK);
   controller_.Tick();
-  EXPECT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
-  EXPECT_EQ(controller_.status().task.state, flsd_msgs_TASK_CANCELLED);
+  EXPECT_EQ(controller_.status().mode, Mode::kStand);
+  EXPECT_EQ(controller_.status().task.state, TaskState::kCancelled);
   EXPECT_EQ(Send("a", "release_control", 0.6).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
 }
 

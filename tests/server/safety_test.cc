@@ -10,9 +10,12 @@
 #include <cmath>
 
 #include "sim/env.h"
+#include "tests/common/served_termination.h"
 
 namespace flsd {
 namespace {
+
+using testutil::TerminationOf;
 
 using ::testing::HasSubstr;
 

@@ -22,7 +22,7 @@ class ControllerFixture : public ::testing::Test {
   ControllerFixture() : backend_(SimBackendConfig{}), controller_(backend_, ShippedLibrary(), config_) {}
 
   // Ticks for `seconds` of control time; returns how many ticks were in `mode`.
-  int RunFor(double seconds, flsd_msgs_Mode mode = flsd_msgs_MODE_IDLE) {
+  int RunFor(double seconds, Mode mode = Mode::kIdle) {
     int in_mode = 0;
     const int ticks = static_cast<int>(std::lround(seconds / a1::kControlDt));
     for (int i = 0; i < ticks; ++i) {
@@ -45,7 +45,7 @@ class ControllerFixture : public ::testing::Test {
   void StandUp() {
     ASSERT_TRUE(controller_.Submit(Request(ControlRequest::Kind::kStand)));
     RunFor(3.0);
-    ASSERT_EQ(controller_.status().mode, flsd_msgs_MODE_STAND);
+    ASSERT_EQ(controller_.status().mode, Mode::kStand);
   }
 
   ServerConfig config_;

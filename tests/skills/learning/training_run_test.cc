@@ -28,9 +28,12 @@
 #include "skills/learning/trainer.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
+#include "tests/common/served_termination.h"
 
 namespace flsd {
 namespace {
+
+using testutil::TerminationOf;
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;

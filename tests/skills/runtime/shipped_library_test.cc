@@ -11,9 +11,12 @@
 #include "sim/env.h"
 #include "skills/runtime/skill_library.h"
 #include "tests/common/skill_choice.h"
+#include "tests/common/served_termination.h"
 
 namespace flsd {
 namespace {
+
+using testutil::TerminationOf;
 
 TEST(ShippedLibrary, LoadsWithItsSelectorAndThreeSkillsKeepTheRobotUpFor10s) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));

@@ -9,15 +9,60 @@
 #include "core/check.h"
 
 namespace flsd {
-std::string SkillProgressHeader() {
-  std::string header =
-    "iteration,env_steps,steps_per_s,episodes_ended,mean_episode_length,fall_fraction,"
-    "discriminator_accuracy,intrinsic_reward,discriminator_loss,pae_loss,surrogate_loss,value_loss,"
-    "entropy,kl,learning_rate,action_std,seconds_physics,seconds_policy,seconds_bookkeeping,"
-    "seconds_reward,seconds_ppo,seconds_pae,seconds_discriminator,seconds_total,regularization,"
-    "termination_probability";
-  for (const char* name : kConstraintNames) header += std::string(",violation_") + name;
-  return header;
+ProgressRecord& ProgressRecord::Add(const char* column, double value, const char* format) {
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  Column(column, text);
+  return *this;
+}
+
+ProgressRecord& ProgressRecord::Add(const char* column, long value) {
+  Column(column, std::to_string(value).c_str());
+  return *this;
+}
+
+void ProgressRecord::Column(const char* column, const char* text) {
+  if (!header_.empty()) {
+    header_ += ',';
+    row_ += ',';
+  }
+  header_ += column;
+  row_ += text;
+}
+
+ProgressRecord SkillProgress(const IterationStats& s) {
+  ProgressRecord r;
+  r.Add("iteration", long{s.iteration})
+      .Add("env_steps", s.env_steps)
+      .Add("steps_per_s", s.steps_per_s, "%.1f")
+      .Add("episodes_ended", long{s.episodes_ended})
+      .Add("mean_episode_length", s.mean_episode_length, "%.2f")
+      .Add("fall_fraction", s.fall_fraction, "%.4f")
+      .Add("discriminator_accuracy", s.discriminator_accuracy, "%.5f")
+      .Add("intrinsic_reward", s.intrinsic_reward, "%.5f")
+      .Add("discriminator_loss", s.discriminator_loss, "%.5f")
+      .Add("pae_loss", s.pae_loss, "%.6f")
+      .Add("surrogate_loss", s.ppo.surrogate_loss, "%.6f")
+      .Add("value_loss", s.ppo.value_loss, "%.6f")
+      .Add("entropy", s.ppo.entropy, "%.5f")
+      .Add("kl", s.ppo.kl, "%.6f")
+      .Add("learning_rate", s.ppo.learning_rate, "%.3g")
+      .Add("action_std", s.action_std, "%.5f")
+      .Add("seconds_physics", s.seconds_physics, "%.4f")
+      .Add("seconds_policy", s.seconds_policy, "%.4f")
+      .Add("seconds_bookkeeping", s.seconds_bookkeeping, "%.4f")
+      .Add("seconds_reward", s.seconds_reward, "%.4f")
+      .Add("seconds_ppo", s.seconds_ppo, "%.4f")
+      .Add("seconds_pae", s.seconds_pae, "%.4f")
+      .Add("seconds_discriminator", s.seconds_discriminator, "%.4f")
+      .Add("seconds_total", s.seconds_total, "%.4f")
+      .Add("regularization", s.regularization, "%.6f")
+      .Add("termination_probability", s.constraints.mean_probability, "%.5f");
+  for (size_t c = 0; c < kConstraintNames.size(); ++c) {
+    const std::string column = std::string("violation_") + kConstraintNames[c];
+    r.Add(column.c_str(), s.constraints.violation_rate[c], "%.5f");
+  }
+  return r;
 }
 
 std::string Duration(double seconds) {
@@ -49,28 +94,6 @@ ProgressLog::ProgressLog(const std::string& path, const std::string& header, int
 void ProgressLog::Append(const std::string& row) {
   out_ << row << '\n';
   out_.flush();
-}
-
-std::string ProgressRow(const IterationStats& s) {
-  char row[1024];
-  std::snprintf(row, sizeof(row),
-                "%d,%ld,%.1f,%d,%.2f,%.4f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.5f,%.6f,%.3g,%.5f,"
-                "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.6f",
-                s.iteration, s.env_steps, s.steps_per_s, s.episodes_ended, s.mean_episode_length,
-                s.fall_fraction, s.discriminator_accuracy, s.intrinsic_reward, s.discriminator_loss,
-                s.pae_loss, s.ppo.surrogate_loss, s.ppo.value_loss, s.ppo.entropy, s.ppo.kl,
-                s.ppo.learning_rate, s.action_std, s.seconds_physics, s.seconds_policy,
-                s.seconds_bookkeeping, s.seconds_reward, s.seconds_ppo, s.seconds_pae,
-                s.seconds_discriminator, s.seconds_total, s.regularization);
-  std::string out = row;
-  char number[32];
-  std::snprintf(number, sizeof(number), ",%.5f", s.constraints.mean_probability);
-  out += number;
-  for (double rate : s.constraints.violation_rate) {
-    std::snprintf(number, sizeof(number), ",%.5f", rate);
-    out += number;
-  }
-  return out;
 }
 
 std::string ProgressLine(const IterationStats& s, int total_iterations, int num_skills, double eta_seconds) {

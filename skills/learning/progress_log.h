@@ -19,9 +19,22 @@ class ProgressLog {
   std::ofstream out_;
 };
 
-// The skill trainer's columns, and one row of them.
-std::string SkillProgressHeader();
-std::string ProgressRow(const IterationStats& stats);
+// One progress.csv row as a list of named columns, so that the header and the row come from the
+// same list: Add("fall_fraction", stats.fall_fraction, "%.4f").
+class ProgressRecord {
+ public:
+  ProgressRecord& Add(const char* column, double value, const char* format);
+  ProgressRecord& Add(const char* column, long value);
+  const std::string& header() const { return header_; }
+  const std::string& row() const { return row_; }
+
+ private:
+  void Column(const char* column, const char* text);
+  std::string header_, row_;
+};
+
+// The skill trainer's columns, filled from one iteration.
+ProgressRecord SkillProgress(const IterationStats& stats);
 
 // "1h02m" or "3m05s".
 std::string Duration(double seconds);

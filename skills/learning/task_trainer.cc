@@ -363,21 +363,31 @@ TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skill
 
 // ---- progress ----
 
-const char* const kTaskProgressHeader =
-    "iteration,env_steps,steps_per_s,mean_reward,mean_episode_return,episodes_ended,mean_episode_length,"
-    "fall_fraction,tracking_lin_vel,tracking_ang_vel,lin_vel_error,ang_vel_error,entropy_or_std,surrogate_loss,"
-    "value_loss,kl,learning_rate,seconds_collect,seconds_ppo,seconds_total,switches_per_s,zero_reward_share";
-
-std::string TaskProgressRow(const TaskIterationStats& s) {
-  char row[768];
-  std::snprintf(row, sizeof(row),
-                "%d,%ld,%.1f,%.6f,%.4f,%d,%.2f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.3g,%.4f,%.4f,%.4f,%.3f,%.4f",
-                s.iteration, s.env_steps, s.steps_per_s, s.mean_reward, s.mean_episode_return, s.episodes_ended,
-                s.mean_episode_length, s.fall_fraction, s.tracking_lin_vel, s.tracking_ang_vel, s.lin_vel_error,
-                s.ang_vel_error, s.entropy_or_std, s.ppo.surrogate_loss, s.ppo.value_loss, s.ppo.kl,
-                s.ppo.learning_rate, s.seconds_collect, s.seconds_ppo, s.seconds_total, s.switches_per_s,
-                s.zero_reward_share);
-  return row;
+ProgressRecord TaskProgress(const TaskIterationStats& s) {
+  ProgressRecord r;
+  r.Add("iteration", long{s.iteration})
+      .Add("env_steps", s.env_steps)
+      .Add("steps_per_s", s.steps_per_s, "%.1f")
+      .Add("mean_reward", s.mean_reward, "%.6f")
+      .Add("mean_episode_return", s.mean_episode_return, "%.4f")
+      .Add("episodes_ended", long{s.episodes_ended})
+      .Add("mean_episode_length", s.mean_episode_length, "%.2f")
+      .Add("fall_fraction", s.fall_fraction, "%.4f")
+      .Add("tracking_lin_vel", s.tracking_lin_vel, "%.5f")
+      .Add("tracking_ang_vel", s.tracking_ang_vel, "%.5f")
+      .Add("lin_vel_error", s.lin_vel_error, "%.5f")
+      .Add("ang_vel_error", s.ang_vel_error, "%.5f")
+      .Add("entropy_or_std", s.entropy_or_std, "%.5f")
+      .Add("surrogate_loss", s.ppo.surrogate_loss, "%.6f")
+      .Add("value_loss", s.ppo.value_loss, "%.6f")
+      .Add("kl", s.ppo.kl, "%.6f")
+      .Add("learning_rate", s.ppo.learning_rate, "%.3g")
+      .Add("seconds_collect", s.seconds_collect, "%.4f")
+      .Add("seconds_ppo", s.seconds_ppo, "%.4f")
+      .Add("seconds_total", s.seconds_total, "%.4f")
+      .Add("switches_per_s", s.switches_per_s, "%.3f")
+      .Add("zero_reward_share", s.zero_reward_share, "%.4f");
+  return r;
 }
 
 std::string TaskProgressLine(const TaskIterationStats& s, int total_iterations, double eta_seconds) {
@@ -441,9 +451,9 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
                  config.steps_per_env, config.iterations);
   }
   return RunIterations(
-      trainer, Communicator::Self(), folder, kTaskProgressHeader, config.iterations, config.checkpoint_every, 0,
+      trainer, Communicator::Self(), folder, TaskProgress(TaskIterationStats{}).header(), config.iterations, config.checkpoint_every, 0,
       stop_requested,
-      [](const TaskIterationStats& s) { return TaskProgressRow(s); },
+      [](const TaskIterationStats& s) { return TaskProgress(s).row(); },
       [&](const TaskIterationStats& s, double eta) { return TaskProgressLine(s, config.iterations, eta); });
 }
 

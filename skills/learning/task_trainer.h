@@ -14,6 +14,7 @@
 #include "skills/learning/actor_critic.h"
 #include "skills/learning/normalizer.h"
 #include "skills/learning/ppo.h"
+#include "skills/learning/progress_log.h"
 #include "skills/learning/velocity_task.h"
 #include "skills/runtime/nearest_skill.h"
 #include "skills/runtime/skill_library.h"
@@ -102,8 +103,7 @@ struct TaskIterationStats {
   double seconds_collect = 0.0, seconds_ppo = 0.0, seconds_total = 0.0;
 };
 
-extern const char* const kTaskProgressHeader;
-std::string TaskProgressRow(const TaskIterationStats& stats);
+ProgressRecord TaskProgress(const TaskIterationStats& stats);
 std::string TaskProgressLine(const TaskIterationStats& stats, int total_iterations, double eta_seconds);
 
 // The parts of a task checkpoint that run the selector: for export.

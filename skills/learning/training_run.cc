@@ -156,9 +156,9 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
                  config.iterations);
   }
   return RunIterations(
-      trainer, comm, folder, SkillProgressHeader(), config.iterations, config.checkpoint_every,
+      trainer, comm, folder, SkillProgress(IterationStats{}).header(), config.iterations, config.checkpoint_every,
       config.keep_checkpoint_every, stop_requested,
-      [](const IterationStats& s) { return ProgressRow(s); },
+      [](const IterationStats& s) { return SkillProgress(s).row(); },
       [&](const IterationStats& s, double eta) { return ProgressLine(s, config.iterations, config.num_skills, eta); });
 }
 

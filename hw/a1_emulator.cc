@@ -104,7 +104,7 @@ LowState MakeSensorFrame(const RobotState& s, const Eigen::Vector3d& specific_fo
                         static_cast<float>(q.z())};
   const Eigen::Vector3d rpy(std::atan2(2.0 * (q.w() * q.x() + q.y() * q.z()), 1.0 - 2.0 * (q.x() * q.x() + q.y() * q.y())),
                             std::asin(std::clamp(2.0 * (q.w() * q.y() - q.z() * q.x()), -1.0, 1.0)),
-                            std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z())));
+                            YawOf(q));
   // A real IMU is noisy: its readings never repeat exactly, which is how a frozen one shows.
   std::normal_distribution<double> noise(0.0, 1.0);
   for (int k = 0; k < 3; ++k) {

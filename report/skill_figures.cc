@@ -11,7 +11,7 @@ namespace {
 
 constexpr double kTinyPower = 1e-10;  // floor before the logarithm: -100 dB, below any moving joint
 
-bool Counted(const SkillTrajectory& s) { return static_cast<int>(s.points.size()) > kCoverageMinSurvival; }
+bool Counted(const SkillTrajectory& s) { return Survives(static_cast<int>(s.points.size())); }
 
 const char* const kRunColors[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
 const int kRunHues[] = {0, 210, 120, 280, 30, 330};
@@ -162,7 +162,7 @@ SvgPlot MeanVelocityFigure(const std::vector<const Evaluation*>& evaluations, co
   std::vector<double> xs{-0.5, 0.5}, ys{yaw ? -0.7 : -0.5, yaw ? 0.7 : 0.5};
   for (const Evaluation* e : evaluations) {
     for (const SkillSummary& s : e->skills) {
-      if (s.survival_steps <= kCoverageMinSurvival) continue;
+      if (!Survives(s.survival_steps)) continue;
       xs.push_back(s.mean_linear_velocity[0]);
       ys.push_back(yaw ? s.mean_angular_velocity[2] : s.mean_linear_velocity[1]);
     }
@@ -177,7 +177,7 @@ SvgPlot MeanVelocityFigure(const std::vector<const Evaluation*>& evaluations, co
   for (size_t e = 0; e < evaluations.size(); ++e) {
     plot.Legend(labels[e], kRunColors[e % 6]);
     for (const SkillSummary& s : evaluations[e]->skills) {
-      if (s.survival_steps <= kCoverageMinSurvival) continue;
+      if (!Survives(s.survival_steps)) continue;
       plot.Dot(s.mean_linear_velocity[0], yaw ? s.mean_angular_velocity[2] : s.mean_linear_velocity[1], 5.0,
                kRunColors[e % 6]);
     }

@@ -11,7 +11,7 @@
 namespace flsd {
 
 // Fig. 5: the distribution over trajectory segments of one joint's velocity spectrum, in dB
-// referenced to 1 (rad/s)^2/Hz. Each skill that survived more than kCoverageMinSurvival steps is
+// referenced to 1 (rad/s)^2/Hz. Each skill that survives (Survives) is
 // cut into whole segments of `segment` samples, and each segment's periodogram (PowerSpectrum) is
 // one sample of the distribution at every frequency.
 struct PsdBands {

@@ -25,7 +25,7 @@ constexpr int kPsdSegment = 100;  // 2 s: 0.5 Hz bins
 constexpr int kPsdJoint = 2;      // FR_calf, the joint the paper's Fig. 5 shows is not named
 constexpr int kEmbeddingStride = 10;
 
-bool Survived(const SkillSummary& s) { return s.survival_steps > kCoverageMinSurvival; }
+bool Survived(const SkillSummary& s) { return Survives(s.survival_steps); }
 
 // Skills that survive 500 steps and that skilld's supervisor would not stop for joint speed.
 int WithinJointSpeed(const Evaluation& e) {

@@ -7,6 +7,11 @@
 
 namespace flsd {
 
+// Heading (rad): the rotation about the world z axis of the body's x axis.
+inline double YawOf(const Eigen::Quaterniond& q) {
+  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+}
+
 // What a backend measures (or, on the robot, estimates) at one control tick.
 struct RobotState {
   double time = 0.0;  // s since the backend started
@@ -24,11 +29,7 @@ struct RobotState {
   Eigen::Vector3d ProjectedGravity() const {
     return base_orientation.conjugate() * Eigen::Vector3d(0.0, 0.0, -1.0);
   }
-  // Heading (rad): the rotation about the world z axis of the body's x axis.
-  double Yaw() const {
-    const Eigen::Quaterniond& q = base_orientation;
-    return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
-  }
+  double Yaw() const { return YawOf(base_orientation); }
 };
 
 // A motor-level command, as the A1's motor drivers take it:

@@ -12,10 +12,6 @@
 namespace flsd {
 namespace {
 
-double Yaw(const Eigen::Quaterniond& q) {
-  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
-}
-
 template <class... Numbers>
 std::string Format(const char* format, Numbers... numbers) {
   char text[192];
@@ -179,7 +175,7 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
     if (status.mode != Mode::kNavigate) continue;  // still standing up
     const Eigen::Vector2d position = status.state.base_position.head<2>();
     const double free_clearance = job.map.Clearance(position) - job.map.robot_radius;
-    const FollowerCommand command = follower.Update(position, Yaw(status.state.base_orientation), free_clearance);
+    const FollowerCommand command = follower.Update(position, status.state.Yaw(), free_clearance);
     if (command.reached) {
       Finish(job, TaskState::kSucceeded,
              Format("reached (%.2f, %.2f), %.2f m from the goal, %.0f replans", position.x(), position.y(),

@@ -10,6 +10,7 @@
 #include "skills/learning/run_loop.h"
 #include "skills/learning/task_trainer.h"
 #include "skills/learning/tracking_eval.h"
+#include "skills/runtime/skill_library.h"
 #include "skills/runtime/library_format.h"
 #include "skills/runtime/safetensors.h"
 #include "skills/runtime/skill_library.h"
@@ -39,11 +40,6 @@ void AddNetwork(SafeTensors& file, const torch::nn::Sequential& mlp, const Runni
   }
   file.tensors[normalizer_prefix + "mean"] = ToFloatTensor(normalizer->mean());
   file.tensors[normalizer_prefix + "std"] = ToFloatTensor(normalizer->Std());
-}
-
-template <size_t N>
-std::vector<double> Vec(const std::array<double, N>& a) {
-  return std::vector<double>(a.begin(), a.end());
 }
 
 // The run's commits file; a run without one says so rather than leaving provenance blank.
@@ -83,17 +79,19 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
   const mirror::SkillPairing pairing = SkillPairingOf(config.num_skills, config.symmetry);
   for (const SkillSummary& s : evaluation.skills) {
     const SkillSummary& r = randomized.skills.at(s.skill);
-    skills.push_back({{"id", s.skill},
-                      {"mirror_skill", pairing(s.skill)},
-                      {"mean_linear_velocity", Vec(s.mean_linear_velocity)},
-                      {"mean_angular_velocity", Vec(s.mean_angular_velocity)},
-                      {"mean_base_height", s.mean_base_height},
-                      {"mean_stance_foot_speed", s.mean_stance_foot_speed},
-                      {"gait_frequency_hz", s.gait_frequency_hz},
-                      {"survival_steps", s.survival_steps},
-                      {"fell", s.fell},
-                      {"randomized_survival_steps", r.survival_steps},
-                      {"randomized_fell", r.fell}});
+    SkillDescriptor d;
+    d.id = s.skill;
+    d.mirror_skill = pairing(s.skill);
+    d.mean_linear_velocity = Eigen::Vector3d(s.mean_linear_velocity.data());
+    d.mean_angular_velocity = Eigen::Vector3d(s.mean_angular_velocity.data());
+    d.mean_base_height = s.mean_base_height;
+    d.mean_stance_foot_speed = s.mean_stance_foot_speed;
+    d.gait_frequency_hz = s.gait_frequency_hz;
+    d.survival_steps = s.survival_steps;
+    d.fell = s.fell;
+    d.randomized_survival_steps = r.survival_steps;
+    d.randomized_fell = r.fell;
+    skills.push_back(DescriptorJson(d));
   }
   metadata["skills"] = skills;
   return metadata;

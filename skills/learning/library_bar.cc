@@ -36,7 +36,7 @@ LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& li
   bar.pooled_high_frequency_ratio = evaluation.high_frequency.pooled_ratio;
   bar.lowest_mover_height = INFINITY;
   for (const SkillSummary& s : evaluation.skills) {
-    if (s.fell || s.survival_steps < limits.survival_steps) continue;
+    if (s.fell || !Survives(s.survival_steps)) continue;
     ++bar.survivors;
     for (int d = 0; d < kNumDirections; ++d) {
       const double speed = SpeedToward(s, static_cast<Direction>(d), limits);

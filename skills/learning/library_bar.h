@@ -13,7 +13,6 @@
 namespace flsd {
 
 struct LibraryBarLimits {
-  int survival_steps = 500;
   double straight_speed = 0.4;      // m/s along the direction, at least
   double straight_yaw_rate = 0.3;   // rad/s, at most, while going straight
   double turn_rate = 1.0;           // rad/s in place, at least

@@ -62,7 +62,7 @@ CoverageResult StateCoverage(const std::vector<SkillTrajectory>& skills) {
   std::unordered_set<long> cells;
   std::array<std::unordered_set<int>, kCoverageDims> dim_cells;
   for (const SkillTrajectory& s : skills) {
-    if (SurvivalSteps(s) <= kCoverageMinSurvival) continue;
+    if (!Survives(SurvivalSteps(s))) continue;
     ++r.skills_counted;
     for (const TrajectoryPoint& p : s.points) {
       const std::array<double, kCoverageDims> x = CoverageState(p);
@@ -195,7 +195,7 @@ void ComputeMetrics(Evaluation& e, double rate_hz) {
   e.survivors = 0;
   for (const SkillTrajectory& s : e.trajectories) {
     e.skills.push_back(SummarizeSkill(s, rate_hz));
-    e.survivors += static_cast<int>(s.points.size()) > kCoverageMinSurvival;
+    e.survivors += Survives(static_cast<int>(s.points.size()));
   }
   e.coverage = StateCoverage(e.trajectories);
   e.high_frequency = HighFrequencyPowerRatio(e.trajectories, rate_hz);

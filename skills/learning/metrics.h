@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "robot/a1.h"
+#include "skills/runtime/library_format.h"
 #include "skills/learning/velocity_tracking.h"
 
 namespace flsd {
@@ -53,10 +54,9 @@ inline constexpr std::array<CoverageRange, kCoverageDims> kCoverageRanges = {{
     {"base_height", 0.0, 0.5},
 }};
 inline constexpr double kCoverageCell = 0.5;        // grid step in normalised units
-inline constexpr int kCoverageMinSurvival = 500;    // steps, as the paper
 
 struct CoverageResult {
-  int skills_counted = 0;       // skills that survived more than 500 steps
+  int skills_counted = 0;       // skills that survive (Survives)
   long cells_visited = 0;
   long cells_total = 0;
   double rate = 0.0;            // cells_visited / cells_total
@@ -113,7 +113,7 @@ struct Evaluation {
   std::vector<SkillTrajectory> trajectories;  // one per skill, up to its first termination
   std::vector<SkillSummary> skills;
   std::vector<int> mirror_skill;  // per skill, the skill trained as its mirror image (itself if none)
-  int survivors = 0;  // skills that ran more than kCoverageMinSurvival steps
+  int survivors = 0;  // skills that survive (Survives: kSurvivalSteps)
   CoverageResult coverage;
   HighFrequencyResult high_frequency;
 };

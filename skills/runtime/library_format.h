@@ -17,6 +17,11 @@ namespace flsd {
 inline constexpr const char* kSkillLibraryFormat = "flsd-skill-library";  // the safetensors "format" entry
 inline constexpr int kSkillLibraryVersion = 1;
 
+// The paper's survival bar, "a survival time exceeding 500 steps" (10 s): the coverage metric
+// counts the skills that pass it, the shipping bar and the nearest-skill selector require it.
+inline constexpr int kSurvivalSteps = 500;
+inline bool Survives(int survival_steps) { return survival_steps > kSurvivalSteps; }
+
 // Calls v(pointer, value) for every fact, with value an int, a double, a std::string, a
 // std::vector<double> or a std::vector<std::string>; num_skills sizes the policy's observation.
 template <class V>

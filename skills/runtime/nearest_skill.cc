@@ -4,16 +4,16 @@
 #include <limits>
 
 #include "core/check.h"
+#include "skills/runtime/library_format.h"
 
 namespace flsd {
 namespace {
 
-constexpr int kSurvivalSteps = 500;  // the paper's survival bar
-
-bool Survives(const SkillDescriptor& d) {
-  const bool nominal = !d.fell && d.survival_steps >= kSurvivalSteps;
+// Survives its evaluation without falling, nominal and (where measured) randomised.
+bool Dependable(const SkillDescriptor& d) {
+  const bool nominal = !d.fell && Survives(d.survival_steps);
   const bool randomized = !d.randomized_survival_steps ||
-                          (!d.randomized_fell && *d.randomized_survival_steps >= kSurvivalSteps);
+                          (!d.randomized_fell && Survives(*d.randomized_survival_steps));
   return nominal && randomized;
 }
 
@@ -23,7 +23,7 @@ NearestSkillSelector::NearestSkillSelector(const SkillLibrary& library) {
   min_.setConstant(std::numeric_limits<double>::infinity());
   max_.setConstant(-std::numeric_limits<double>::infinity());
   for (const SkillDescriptor& d : library.skills()) {
-    if (!Survives(d)) continue;
+    if (!Dependable(d)) continue;
     const Eigen::Vector3d v(d.mean_linear_velocity.x(), d.mean_linear_velocity.y(), d.mean_angular_velocity.z());
     candidates_.push_back(d.id);
     velocity_.push_back(v);

@@ -146,11 +146,55 @@ DenseNetwork ReadNetwork(const SafeTensors& file, const MetadataChecker& m, cons
   return net;
 }
 
+// Reads a SkillDescriptor's fields (SkillDescriptor::Visit) from the metadata at `at`; a missing
+// field that is not required keeps its value.
+struct DescriptorReader {
+  const MetadataChecker& m;
+  std::string at;
+  template <class T>
+  void operator()(const char* key, T& field, bool required) {
+    const std::string pointer = at + "/" + key;
+    if (!required && !m.Has(pointer)) return;
+    if constexpr (std::is_same_v<T, Eigen::Vector3d>) {
+      const auto v = m.Get<std::vector<double>>(pointer);
+      if (v.size() != 3) m.Fail(pointer, "must have 3 entries");
+      field = Eigen::Vector3d(v[0], v[1], v[2]);
+    } else if constexpr (std::is_same_v<T, std::optional<int>> || std::is_same_v<T, std::optional<double>>) {
+      field = m.Get<typename T::value_type>(pointer);
+    } else {
+      field = m.Get<T>(pointer);
+    }
+  }
+};
+
+// Writes them.
+struct DescriptorWriter {
+  nlohmann::json& out;
+  template <class T>
+  void operator()(const char* key, const T& field, bool) {
+    if constexpr (std::is_same_v<T, Eigen::Vector3d>) {
+      out[key] = {field.x(), field.y(), field.z()};
+    } else if constexpr (std::is_same_v<T, std::optional<int>> || std::is_same_v<T, std::optional<double>>) {
+      if (field) out[key] = *field;
+    } else {
+      out[key] = field;
+    }
+  }
+};
+
 std::vector<double> CommandScale() {
   return {kMotionObsLayout[0].scale, kMotionObsLayout[0].scale, kMotionObsLayout[1].scale};
 }
 
 }  // namespace
+
+nlohmann::json DescriptorJson(const SkillDescriptor& descriptor) {
+  nlohmann::json out = nlohmann::json::object();
+  DescriptorWriter writer{out};
+  SkillDescriptor copy = descriptor;  // Visit is one list for reading and writing, so not const
+  copy.Visit(writer);
+  return out;
+}
 
 SkillLibrary SkillLibrary::Load(const std::string& path) {
   const SafeTensors file = ReadSafeTensors(path);
@@ -224,25 +268,12 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   for (int k = 0; k < lib.num_skills_; ++k) {
     const std::string at = "/skills/" + std::to_string(k);
     SkillDescriptor d;
-    d.id = m.Get<int>(at + "/id");
+    d.mirror_skill = k;
+    DescriptorReader reader{m, at};
+    d.Visit(reader);
     if (d.id != k) m.Fail(at + "/id", "is " + std::to_string(d.id) + "; expected " + std::to_string(k));
-    const auto v = m.Get<std::vector<double>>(at + "/mean_linear_velocity");
-    const auto w = m.Get<std::vector<double>>(at + "/mean_angular_velocity");
-    if (v.size() != 3 || w.size() != 3) m.Fail(at, "mean velocities must have 3 entries");
-    d.mean_linear_velocity = Eigen::Vector3d(v[0], v[1], v[2]);
-    d.mean_angular_velocity = Eigen::Vector3d(w[0], w[1], w[2]);
-    d.mean_base_height = m.Get<double>(at + "/mean_base_height");
-    d.gait_frequency_hz = m.Get<double>(at + "/gait_frequency_hz");
-    d.survival_steps = m.Get<int>(at + "/survival_steps");
-    d.fell = m.Get<bool>(at + "/fell");
-    d.mirror_skill = m.Has(at + "/mirror_skill") ? m.Get<int>(at + "/mirror_skill") : k;
     if (d.mirror_skill < 0 || d.mirror_skill >= lib.num_skills_) {
       m.Fail(at + "/mirror_skill", "must be a skill id, 0 to " + std::to_string(lib.num_skills_ - 1));
-    }
-    if (m.Has(at + "/mean_stance_foot_speed")) d.mean_stance_foot_speed = m.Get<double>(at + "/mean_stance_foot_speed");
-    if (m.Has(at + "/randomized_survival_steps")) {
-      d.randomized_survival_steps = m.Get<int>(at + "/randomized_survival_steps");
-      d.randomized_fell = m.Get<bool>(at + "/randomized_fell");
     }
     lib.skills_.push_back(d);
   }

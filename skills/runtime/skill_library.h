@@ -27,7 +27,28 @@ struct SkillDescriptor {
   std::optional<double> mean_stance_foot_speed;  // m/s: how fast its stance feet slide
   std::optional<int> randomized_survival_steps;  // under the training randomisation
   bool randomized_fell = false;
+
+  // The fields as the library's metadata names them, listed once: `flsd export` writes them
+  // (DescriptorJson) and SkillLibrary::Load reads them. v(key, field, required); a field that is
+  // not required may be absent from older libraries.
+  template <class V>
+  void Visit(V& v) {
+    v("id", id, true);
+    v("mirror_skill", mirror_skill, false);  // absent: the skill is its own mirror image
+    v("mean_linear_velocity", mean_linear_velocity, true);
+    v("mean_angular_velocity", mean_angular_velocity, true);
+    v("mean_base_height", mean_base_height, true);
+    v("mean_stance_foot_speed", mean_stance_foot_speed, false);
+    v("gait_frequency_hz", gait_frequency_hz, true);
+    v("survival_steps", survival_steps, true);
+    v("fell", fell, true);
+    v("randomized_survival_steps", randomized_survival_steps, false);
+    v("randomized_fell", randomized_fell, false);
+  }
 };
+
+// A descriptor as the library's metadata stores it (its /skills/K entry).
+nlohmann::json DescriptorJson(const SkillDescriptor& descriptor);
 
 using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 

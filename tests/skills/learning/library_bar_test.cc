@@ -11,7 +11,7 @@ namespace {
 SkillSummary Skill(int id, double vx, double vy, double wz, double height = 0.28, double slip = 0.05) {
   SkillSummary s;
   s.skill = id;
-  s.survival_steps = 500;
+  s.survival_steps = 1000;  // the whole evaluation episode
   s.mean_linear_velocity = {vx, vy, 0.0};
   s.mean_angular_velocity = {0.0, 0.0, wz};
   s.mean_base_height = height;

@@ -146,6 +146,25 @@ TEST_F(SkillLibraryTest, MirrorImagesMustPairBothWaysAndOlderLibrariesHaveNone) 
   std::remove(old.c_str());
 }
 
+// The descriptor's one field list writes every field and reads it back; a required one that is
+// missing is named, with the skill.
+TEST_F(SkillLibraryTest, DescriptorsRoundTripThroughTheirFieldList) {
+  const SkillLibrary lib = SkillLibrary::Load(path_);
+  const SkillDescriptor& d = lib.skills()[3];
+  const nlohmann::json written = DescriptorJson(d);
+  EXPECT_EQ(written, lib.metadata()["skills"][3]);  // export wrote exactly this
+  EXPECT_EQ(written.size(), 11u);
+  EXPECT_EQ(written["mean_linear_velocity"], nlohmann::json({0.1 * 3, -0.2, 0.0}));  // FakeEvaluation's
+  SkillDescriptor without_optionals = d;
+  without_optionals.mean_stance_foot_speed.reset();
+  without_optionals.randomized_survival_steps.reset();
+  EXPECT_EQ(DescriptorJson(without_optionals).size(), 9u);
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][2].erase("gait_frequency_hz"); }),
+              HasSubstr("/skills/2/gait_frequency_hz is missing"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][1]["mean_angular_velocity"] = {0.0, 1.0}; }),
+              HasSubstr("/skills/1/mean_angular_velocity must have 3 entries"));
+}
+
 // The Eigen runner and libtorch agree on the same weights and inputs.
 TEST_F(SkillLibraryTest, EigenPolicyMatchesLibtorch) {
   const SkillLibrary lib = SkillLibrary::Load(path_);

@@ -1,7 +1,8 @@
 #pragma once
 // The client's own types: what a script sees of skilld's replies, skills, tasks and state, with
-// no IDL struct or C enum in sight. The enums keep the IDL's values (checked in types.cc), so
-// converting is a cast, and their names come from comm/protocol.h's tables.
+// no IDL struct or C enum in sight. The enums keep the IDL's values (ReplyStatus checked in
+// types.cc; Mode and TaskState, which the server keeps too, in comm/protocol.cc), so converting
+// is a cast, and their names come from comm/protocol.h's tables.
 
 #include <array>
 #include <cstdint>

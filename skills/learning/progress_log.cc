@@ -10,7 +10,7 @@
 
 namespace flsd {
 ProgressRecord& ProgressRecord::Add(const char* column, double value, const char* format) {
-  char text[64];
+  char text[400];  // "%.6f" of the largest double takes 316 characters: a huge loss is written whole
   std::snprintf(text, sizeof(text), format, value);
   Column(column, text);
   return *this;

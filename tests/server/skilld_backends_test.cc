@@ -56,8 +56,10 @@ TEST_P(SameScript, StandRunASkillStopAndDamp) {
   ASSERT_TRUE(standing) << server_->Log();
   EXPECT_EQ(standing->backend, GetParam());
 
+  // Skill 2 walks without turning. The library's spinners (skill 3 turns at 1.6 rad/s, rolling)
+  // can tip past skilld's tilt limit on the hw path when a loaded machine delays the control loop.
   CallArgs args;
-  args.skill = 3;
+  args.skill = 2;
   args.duration = 2.0;
   ASSERT_TRUE(client->Call("execute_skill", args).ok());
   const auto done = client->WaitForState(

@@ -14,12 +14,20 @@ struct DiscriminatorConfig {
   double learning_rate = 1e-4;  // Adam, as ETH D3's DIAYN discriminator
   int epochs = 1;
   int minibatch_size = 1024;
+  // The discriminator trains on inputs blurred by Gaussian noise of these standard deviations: q
+  // (metres) and the motion features after it (P, or DIAYN's o^m). Rewards read clean inputs. A
+  // skill is then told apart only once it differs by more than the blur: creeping 0.1 m from the
+  // others earns nothing, travelling further earns more until the skills are clear of one another.
+  double position_noise = 0.0;
+  double feature_noise = 0.0;
   template <class V>
   void Visit(V& v) {
     v("hidden", hidden, Bounds<int>{1, 4096});
     v("learning_rate", learning_rate, Bounds<double>{0.0, 1.0});
     v("epochs", epochs, Bounds<int>{0, 1000});
     v("minibatch_size", minibatch_size, Bounds<int>{1, 1 << 20});
+    v("position_noise", position_noise, Bounds<double>{0.0, 100.0});
+    v("feature_noise", feature_noise, Bounds<double>{0.0, 100.0});
   }
 };
 
@@ -40,6 +48,9 @@ TORCH_MODULE(Discriminator);
 
 // Eq. 11: log q(k | o^d) - log p(k) with uniform p(k) = 1 / N_k, for skills [B] (int64).
 torch::Tensor IntrinsicReward(const torch::Tensor& log_probs, const torch::Tensor& skills);
+
+// o^d = [q (2), features] with the config's noise added to each part.
+torch::Tensor Blurred(const torch::Tensor& observations, const DiscriminatorConfig& config);
 
 // Eq. 12: the negative log-likelihood -E[log q(k | o^d)].
 torch::Tensor DiscriminatorLoss(const torch::Tensor& log_probs, const torch::Tensor& skills);

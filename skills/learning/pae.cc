@@ -9,6 +9,8 @@ namespace {
 
 // Guards sqrt and division against an all-constant latent curve (zero spectral power).
 constexpr double kEps = 1e-8;
+// DeepPhase's layer-norm epsilon, kept in the decoder.
+constexpr double kDecoderNormEpsilon = 1e-5;
 
 // A convolution whose output is as long as its input: padded by zeros or by repeated end frames.
 torch::nn::Conv1d SameConv(int in, int out, int kernel, bool replicate) {
@@ -20,8 +22,9 @@ torch::nn::Conv1d SameConv(int in, int out, int kernel, bool replicate) {
 
 // DeepPhase's LN_v2: each (sample, channel) curve normalised over time, with a learned gain and
 // bias per time step.
-torch::Tensor TimeNorm(const torch::Tensor& x, const torch::Tensor& weight, const torch::Tensor& bias) {
-  return torch::layer_norm(x, {x.size(2)}, weight, bias, 1e-5);
+torch::Tensor TimeNorm(const torch::Tensor& x, const torch::Tensor& weight, const torch::Tensor& bias,
+                       double epsilon) {
+  return torch::layer_norm(x, {x.size(2)}, weight, bias, epsilon);
 }
 
 }  // namespace
@@ -44,7 +47,10 @@ FourierParameters ComputeFourierParameters(const torch::Tensor& z, double sample
 
 PeriodicAutoencoderImpl::PeriodicAutoencoderImpl(int input_channels, int window, double sample_rate_hz,
                                                  const PaeConfig& config)
-    : window_(window), latent_channels_(config.latent_channels), sample_rate_hz_(sample_rate_hz) {
+    : window_(window),
+      latent_channels_(config.latent_channels),
+      sample_rate_hz_(sample_rate_hz),
+      encoder_norm_epsilon_(config.encoder_norm_epsilon) {
   if (config.kernel_size % 2 == 0) {
     throw InputError("pae.kernel_size must be odd, got " + std::to_string(config.kernel_size));
   }
@@ -68,7 +74,8 @@ PeriodicAutoencoderImpl::PeriodicAutoencoderImpl(int input_channels, int window,
 
 torch::Tensor PeriodicAutoencoderImpl::Encode(const torch::Tensor& windows) {
   FLSD_DEMAND(windows.dim() == 3 && windows.size(2) == window_);
-  return encoder2_(torch::elu(TimeNorm(encoder1_(windows), encoder_norm_weight_, encoder_norm_bias_)));
+  return encoder2_(
+      torch::elu(TimeNorm(encoder1_(windows), encoder_norm_weight_, encoder_norm_bias_, encoder_norm_epsilon_)));
 }
 
 torch::Tensor PeriodicAutoencoderImpl::Phase(const torch::Tensor& z) {
@@ -100,7 +107,7 @@ PaeOutput PeriodicAutoencoderImpl::Forward(const torch::Tensor& windows) {
           torch::sin(2.0 * M_PI * (f.frequency.unsqueeze(2) * t + out.phase.unsqueeze(2))) +
       f.offset.unsqueeze(2);
   out.reconstruction = decoder2_(
-      torch::elu(TimeNorm(decoder1_(out.latent_signal), decoder_norm_weight_, decoder_norm_bias_)));
+      torch::elu(TimeNorm(decoder1_(out.latent_signal), decoder_norm_weight_, decoder_norm_bias_, kDecoderNormEpsilon)));
   out.manifold = ManifoldOf(f, out.phase);
   return out;
 }

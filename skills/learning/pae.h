@@ -26,6 +26,11 @@ struct PaeConfig {
   // only the mean and the scale), so a still posture has a manifold point of its own and the
   // discriminator tells postures apart: the single-step state that FLSD means to replace.
   bool replicate_padding = true;
+  // The encoder's time normalisation adds this to each curve's variance before dividing by its
+  // root. DeepPhase's 1e-5 scales a still posture's millimetre tremor up to a gait's amplitude, so
+  // the discriminator tells postures apart by their tremor; at 1 (the order of a gait's variance
+  // in o^m's units) a curve much smaller than a gait stays small.
+  double encoder_norm_epsilon = 1e-5;
   template <class V>
   void Visit(V& v) {
     v("latent_channels", latent_channels, Bounds<int>{1, 64});
@@ -37,6 +42,7 @@ struct PaeConfig {
     v("minibatch_size", minibatch_size, Bounds<int>{1, 1 << 20});
     v("sample_fraction", sample_fraction, Bounds<double>{0.0, 1.0});
     v("replicate_padding", replicate_padding);
+    v("encoder_norm_epsilon", encoder_norm_epsilon, Bounds<double>{1e-12, 1e3});
   }
 };
 
@@ -82,6 +88,7 @@ class PeriodicAutoencoderImpl : public torch::nn::Module {
   int window_;
   int latent_channels_;
   double sample_rate_hz_;
+  double encoder_norm_epsilon_;
   torch::nn::Conv1d encoder1_{nullptr}, encoder2_{nullptr}, decoder1_{nullptr}, decoder2_{nullptr};
   torch::Tensor encoder_norm_weight_, encoder_norm_bias_, decoder_norm_weight_, decoder_norm_bias_;
   torch::Tensor phase_weight_, phase_bias_;  // one Linear(H -> 2) per channel: [D, 2, H], [D, 2]

@@ -406,7 +406,7 @@ double Trainer::UpdateDiscriminator() {
   const torch::Tensor all = torch::arange(discriminator_obs_.size(0), torch::kLong);
   return TrainEpochs(discriminator_optimizer_, comm_, all, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
     // Eq. 12 on (o^d, k) pairs of this rollout.
-    return DiscriminatorLoss(discriminator_->LogProbs(discriminator_obs_.index_select(0, idx)),
+    return DiscriminatorLoss(discriminator_->LogProbs(Blurred(discriminator_obs_.index_select(0, idx), c)),
                              discriminator_labels_.index_select(0, idx));
   });
 }

@@ -85,5 +85,48 @@ TEST(Discriminator, LearnsToTellTwoSeparatedSkillsApart) {
   EXPECT_GT(IntrinsicReward(log_probs, k).mean().item<double>(), 0.9 * std::log(2.0));
 }
 
+TEST(Blurred, AddsEachPartsNoiseAndNothingWhenOff) {
+  torch::manual_seed(3);
+  const torch::Tensor x = torch::zeros({20000, 5});
+  EXPECT_TRUE(torch::equal(Blurred(x, DiscriminatorConfig{}), x));
+  DiscriminatorConfig config;
+  config.position_noise = 1.5;
+  config.feature_noise = 0.2;
+  const torch::Tensor std = Blurred(x, config).std(0);
+  for (int i = 0; i < 5; ++i) EXPECT_NEAR(std[i].item<double>(), i < 2 ? 1.5 : 0.2, 0.03) << "column " << i;
+}
+
+// Two skills at q = (+d, 0) and (-d, 0), trained with 1 m of position noise: the reward (read on
+// clean q) is about zero for skills 0.1 m apart and near its ceiling log 2 for skills 10 m apart.
+double RewardOfSkillsApart(double d) {
+  torch::manual_seed(4);
+  DiscriminatorConfig config;
+  config.hidden = {16, 16};
+  config.position_noise = 1.0;
+  Discriminator disc(2, 2, config);
+  torch::optim::Adam optimizer(disc->parameters(), torch::optim::AdamOptions(1e-2));
+  const auto samples = [d](torch::Tensor& x, torch::Tensor& k) {
+    k = torch::randint(0, 2, {256}, torch::kLong);
+    x = torch::zeros({256, 2});
+    x.select(1, 0).copy_((k.to(torch::kFloat32) * 2.0 - 1.0) * d);
+  };
+  torch::Tensor x, k;
+  for (int step = 0; step < 300; ++step) {
+    samples(x, k);
+    const torch::Tensor loss = DiscriminatorLoss(disc->LogProbs(Blurred(x, config)), k);
+    optimizer.zero_grad();
+    loss.backward();
+    optimizer.step();
+  }
+  torch::NoGradGuard no_grad;
+  samples(x, k);
+  return IntrinsicReward(disc->LogProbs(x), k).mean().item<double>();
+}
+
+TEST(Discriminator, PositionNoiseRewardsDistanceNotCreeping) {
+  EXPECT_LT(RewardOfSkillsApart(0.1), 0.1);
+  EXPECT_GT(RewardOfSkillsApart(10.0), 0.6);  // log 2 = 0.69
+}
+
 }  // namespace
 }  // namespace flsd

@@ -237,6 +237,30 @@ TEST(PeriodicAutoencoder, StillPosturesShareAManifoldPointOnlyWithReplicatePaddi
   }
 }
 
+// A posture's tremor against a gait's swing, the same curve at 1/100 of the amplitude. With
+// DeepPhase's epsilon the encoder's time normalisation brings both to one amplitude, so the
+// discriminator would tell postures apart by tremor; with an epsilon of 1 the tremor's manifold
+// point stays near the origin.
+TEST(PeriodicAutoencoder, ATremorStaysSmallOnlyWithALargeEncoderEpsilon) {
+  const torch::Tensor t = torch::arange(kWindow, torch::kFloat32) / kRate;
+  const torch::Tensor curves = torch::sin(2.0 * M_PI * 2.0 * t + torch::linspace(0.0, 3.0, kChannels).view({kChannels, 1}));
+  const torch::Tensor windows = torch::stack({curves, 0.01 * curves}, 0);
+  for (double epsilon : {1e-5, 1.0}) {
+    torch::manual_seed(6);
+    PaeConfig c = SmallConfig();
+    c.encoder_norm_epsilon = epsilon;
+    PeriodicAutoencoder pae(kChannels, kWindow, kRate, c);
+    torch::NoGradGuard no_grad;
+    const torch::Tensor p = pae->Manifold(windows);
+    const double ratio = p[1].norm().item<double>() / p[0].norm().item<double>();
+    if (epsilon < 1e-3) {
+      EXPECT_GT(ratio, 0.5) << "epsilon " << epsilon;
+    } else {
+      EXPECT_LT(ratio, 0.2) << "epsilon " << epsilon;
+    }
+  }
+}
+
 TEST(PeriodicAutoencoder, EvenKernelIsRejected) {
   PaeConfig c = SmallConfig();
   c.kernel_size = 8;

@@ -63,14 +63,16 @@ TaskTrainConfig LoadTaskTrainConfig(const std::string& path, const std::vector<s
   return config;
 }
 
-TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
+TaskTrainer::TaskTrainer(const TaskTrainConfig& config, const Communicator& comm)
     : config_(SeedTorch(config)),
+      comm_(comm),
       method_(ParseTaskMethod(config.method)),
       library_(LoadSelectorLibrary(config)),
-      num_envs_(config.num_envs),
+      num_envs_(LocalEnvCount(config.num_envs, comm)),
       steps_(config.steps_per_env),
       obs_size_(TaskPolicyObsSize(method_)),
-      task_(config.env, config.task, config.num_envs, config.seed, ResolveThreadCount(config.num_threads)),
+      task_(config.env, config.task, num_envs_, config.seed, ResolveThreadCount(config.num_threads),
+            comm.rank() * num_envs_),
       streams_(config.value_streams()),
       scratch_(method_ == TaskMethod::kScratch
                    ? ActorCritic(obs_size_, obs_size_, kActionSize, config.policy, streams_)
@@ -78,8 +80,8 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
       selector_(library_ ? CategoricalActorCritic(obs_size_, obs_size_, library_->num_skills(), config.policy, streams_)
                          : CategoricalActorCritic(nullptr)),
       policy_(library_ ? std::shared_ptr<PpoPolicyImpl>(selector_.ptr()) : std::shared_ptr<PpoPolicyImpl>(scratch_.ptr())),
-      normalizer_(obs_size_),
-      ppo_(policy_, config.ppo) {
+      learner_(policy_, obs_size_, config.ppo, config.seed, comm),
+      rollout_(learner_.rollout()) {
   ValidateTaskTrainConfig(config, "task training config");
   if (library_ && (config.env.action_filter_hz != library_->action_filter_hz() ||
                    config.env.action_filter_order != library_->action_filter_order())) {
@@ -89,6 +91,7 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
                      " Hz target filter of order " + std::to_string(library_->action_filter_order()) +
                      " (0 Hz: none); the selector must run them behind the same");
   }
+  SeedRankStreams(config.seed, comm);
   const int n = num_envs_, t = steps_;
   if (library_) {
     skill_runners_.reserve(n);
@@ -102,17 +105,10 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config)
   ended_.assign(n, 0);
   last_choice_.assign(n, -1);
   const auto f = torch::kFloat32;
-  const int64_t action_size = method_ == TaskMethod::kSelector ? 1 : kActionSize;
-  const int64_t distribution_size = method_ == TaskMethod::kSelector ? library_->num_skills() : 2 * kActionSize;
-  rollout_.obs = torch::zeros({t, n, obs_size_}, f);
-  rollout_.critic_obs = rollout_.obs;  // the critic sees what the actor sees
-  rollout_.actions = torch::zeros({t, n, action_size}, f);
-  rollout_.distributions = torch::zeros({t, n, distribution_size}, f);
-  rollout_.log_probs = torch::zeros({t, n}, f);
-  rollout_.values = streams_ > 1 ? torch::zeros({t, n, streams_}, f) : torch::zeros({t, n}, f);
-  rollout_.rewards = torch::zeros_like(rollout_.values);
-  rollout_.dones = torch::zeros({t, n}, f);
-  rollout_.timeouts = torch::zeros({t, n}, f);
+  const bool selector = method_ == TaskMethod::kSelector;
+  // The critic sees what the actor sees.
+  learner_.AllocateRollout({t, n, obs_size_, obs_size_, selector ? 1 : kActionSize,
+                            selector ? library_->num_skills() : 2 * kActionSize, streams_});
   raw_obs_ = torch::zeros({n, obs_size_}, f);
   if (config.mirror) raw_rollout_obs_ = torch::zeros({t, n, obs_size_}, f);
 }
@@ -127,8 +123,8 @@ torch::Tensor TaskTrainer::Observations(bool update_normalizer) {
       std::copy(&previous_action_[i * kActionSize], &previous_action_[(i + 1) * kActionSize], row + kTaskObsSize);
     }
   }
-  if (update_normalizer) normalizer_->Update(raw_obs_);
-  return normalizer_->Normalize(raw_obs_);
+  if (update_normalizer) learner_.UpdateNormalizer(raw_obs_);
+  return learner_.normalizer()->Normalize(raw_obs_);
 }
 
 // The joint actions for this step: the chosen skill's (the frozen low-level policy, run as the
@@ -236,18 +232,23 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
     }
   }
   last_values_ = policy_->Value(Observations(/*update_normalizer=*/false));
-  const double samples = static_cast<double>(steps_) * num_envs_ * config_.decision_interval;
-  stats.mean_reward = reward_sum / samples;
-  stats.zero_reward_share = zero_rewards / samples;
-  stats.tracking_lin_vel = lin_sum / samples;
-  stats.tracking_ang_vel = ang_sum / samples;
-  stats.lin_vel_error = std::sqrt(lin_err2 / samples);
-  stats.ang_vel_error = std::sqrt(ang_err2 / samples);
-  stats.episodes_ended = static_cast<int>(ended);
-  stats.mean_episode_length = ended > 0 ? double(length_sum) / ended : 0.0;
-  stats.mean_episode_return = ended > 0 ? return_sum / ended : 0.0;
-  stats.fall_fraction = ended > 0 ? double(falls) / ended : 0.0;
-  stats.switches_per_s = switches / (samples * a1::kControlDt);
+  // Over every rank's envs.
+  double sums[11] = {reward_sum,        double(zero_rewards), lin_sum,     ang_sum,       lin_err2,        ang_err2,
+                     double(ended),     double(length_sum),   return_sum,  double(falls), double(switches)};
+  comm_.Sum(sums, 11);
+  const double samples = static_cast<double>(steps_) * num_envs_ * config_.decision_interval * comm_.size();
+  const double episodes = sums[6];
+  stats.mean_reward = sums[0] / samples;
+  stats.zero_reward_share = sums[1] / samples;
+  stats.tracking_lin_vel = sums[2] / samples;
+  stats.tracking_ang_vel = sums[3] / samples;
+  stats.lin_vel_error = std::sqrt(sums[4] / samples);
+  stats.ang_vel_error = std::sqrt(sums[5] / samples);
+  stats.episodes_ended = static_cast<int>(episodes);
+  stats.mean_episode_length = episodes > 0 ? sums[7] / episodes : 0.0;
+  stats.mean_episode_return = episodes > 0 ? sums[8] / episodes : 0.0;
+  stats.fall_fraction = episodes > 0 ? sums[9] / episodes : 0.0;
+  stats.switches_per_s = sums[10] / (samples * a1::kControlDt);
 }
 
 MirroredSamples TaskTrainer::MirroredRollout() const {
@@ -262,7 +263,7 @@ MirroredSamples TaskTrainer::MirroredRollout() const {
   }
   const int64_t count = raw_rollout_obs_.size(0) * raw_rollout_obs_.size(1);
   MirroredSamples m;
-  m.obs = normalizer_->Normalize(MirrorAlong(obs, raw_rollout_obs_.view({count, obs_size_}), 1));
+  m.obs = learner_.normalizer()->Normalize(MirrorAlong(obs, raw_rollout_obs_.view({count, obs_size_}), 1));
   m.critic_obs = m.obs;  // the critic sees what the actor sees
   const torch::Tensor actions = rollout_.actions.view({count, -1});
   if (method_ == TaskMethod::kScratch) {
@@ -282,21 +283,20 @@ TaskIterationStats TaskTrainer::RunIteration() {
   Collect(stats);
   stats.seconds_collect = Since(start);
   const Clock::time_point phase = Clock::now();
-  const Returns returns = ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda);
   if (config_.mirror) {
     const MirroredSamples mirrored = MirroredRollout();
-    stats.ppo = ppo_.Update(rollout_, returns, &mirrored);
+    stats.ppo = learner_.Update(last_values_, &mirrored);
   } else {
-    stats.ppo = ppo_.Update(rollout_, returns);
+    stats.ppo = learner_.Update(last_values_);
   }
   stats.seconds_ppo = Since(phase);
-  ++iteration_;
-  env_steps_ += static_cast<long>(steps_) * num_envs_ * config_.decision_interval;
-  stats.iteration = iteration_;
-  stats.env_steps = env_steps_;
+  const long job_steps = static_cast<long>(steps_) * num_envs_ * config_.decision_interval * comm_.size();
+  learner_.CountIteration(job_steps);
+  stats.iteration = learner_.iteration();
+  stats.env_steps = learner_.env_steps();
   stats.entropy_or_std = method_ == TaskMethod::kSelector ? stats.ppo.entropy : scratch_->Std().mean().item<double>();
   stats.seconds_total = Since(start);
-  stats.steps_per_s = static_cast<double>(steps_) * num_envs_ * config_.decision_interval / stats.seconds_total;
+  stats.steps_per_s = job_steps / stats.seconds_total;
   stats.finite = stats.ppo.finite;
   return stats;
 }
@@ -305,15 +305,9 @@ TaskIterationStats TaskTrainer::RunIteration() {
 
 void TaskTrainer::SaveCheckpoint(const std::string& path) const {
   torch::serialize::OutputArchive archive;
-  WriteModule(archive, "policy", *policy_);
-  WriteModule(archive, "normalizer", *normalizer_);
-  WriteOptimizer(archive, "policy_optimizer", ppo_.optimizer());
+  learner_.Write(archive);
   archive.write("config", c10::IValue(ToYamlString(config_)));
   archive.write("library_fingerprint", c10::IValue(library_ ? library_->fingerprint() : std::string()));
-  archive.write("iteration", c10::IValue(static_cast<int64_t>(iteration_)));
-  archive.write("env_steps", c10::IValue(static_cast<int64_t>(env_steps_)));
-  archive.write("learning_rate", c10::IValue(ppo_.learning_rate()));
-  WriteTorchRng(archive);
   archive.write("command_rng", c10::IValue(RngState(task_.command_rngs())));
   WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
 }
@@ -326,14 +320,16 @@ void TaskTrainer::LoadCheckpoint(const std::string& path) {
       throw InputError("the selector was trained over a library with fingerprint " + fingerprint + ", but " +
                        library_->path() + " has " + library_->fingerprint() + " (it changed since)");
     }
-    ReadModule(archive, "policy", *policy_);
-    ReadModule(archive, "normalizer", *normalizer_);
-    ReadOptimizer(archive, "policy_optimizer", ppo_.optimizer());
-    iteration_ = static_cast<int>(ReadInt(archive, "iteration"));
-    env_steps_ = static_cast<long>(ReadInt(archive, "env_steps"));
-    ppo_.set_learning_rate(ReadDouble(archive, "learning_rate"));
-    ReadTorchRng(archive);
-    RestoreRngState(ReadString(archive, "command_rng"), task_.command_rngs(), "command");
+    if (learner_.Read(archive)) {
+      RestoreRngState(ReadString(archive, "command_rng"), task_.command_rngs(), "command");
+    } else {
+      const int first = comm_.rank() * num_envs_;
+      std::vector<Rng>& streams = task_.command_rngs();
+      for (int i = 0; i < num_envs_; ++i) {
+        streams[i].seed(
+            StreamSeed(StreamSeed(config_.seed + VelocityTask::kCommandStream, first + i), learner_.iteration()));
+      }
+    }
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(path, e);
   } catch (const InputError& e) {
@@ -348,10 +344,7 @@ TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skill
   out.policy = CategoricalActorCritic(obs, obs, num_skills, config.policy, config.value_streams());
   out.normalizer = RunningNormalizer(obs);
   try {
-    ReadModule(archive, "policy", *out.policy);
-    ReadModule(archive, "normalizer", *out.normalizer);
-    out.iteration = static_cast<int>(ReadInt(archive, "iteration"));
-    out.env_steps = static_cast<long>(ReadInt(archive, "env_steps"));
+    ReadPolicyParts(archive, *out.policy, *out.normalizer, out.iteration, out.env_steps);
     out.library_fingerprint = ReadString(archive, "library_fingerprint");
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(checkpoint, e);
@@ -437,11 +430,9 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
       commands.wz = envelope[2];
     }
   }
-  RecordRunStart(folder, ToYamlString(config), options.resume);
-  ConfigureTorchThreads(config.num_threads);
-  WarnIfOversubscribed(config.num_threads);
-
-  TaskTrainer trainer(config);
+  const Communicator& comm =
+      StartRun(folder, ToYamlString(config), options.resume, config.num_envs, config.num_threads);
+  TaskTrainer trainer(config, comm);
   if (options.resume) {
     trainer.LoadCheckpoint(folder.checkpoint);
     spdlog::info("resumed {} at iteration {} ({} env steps)", options.run_dir, trainer.iteration(), trainer.env_steps());
@@ -451,7 +442,7 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
                  config.steps_per_env, config.iterations);
   }
   return RunIterations(
-      trainer, Communicator::Self(), folder, TaskProgress(TaskIterationStats{}).header(), config.iterations, config.checkpoint_every, 0,
+      trainer, comm, folder, TaskProgress(TaskIterationStats{}).header(), config.iterations, config.checkpoint_every, 0,
       stop_requested,
       [](const TaskIterationStats& s) { return TaskProgress(s).row(); },
       [&](const TaskIterationStats& s, double eta) { return TaskProgressLine(s, config.iterations, eta); });

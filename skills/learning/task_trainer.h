@@ -12,8 +12,7 @@
 #include <vector>
 
 #include "skills/learning/actor_critic.h"
-#include "skills/learning/normalizer.h"
-#include "skills/learning/ppo.h"
+#include "skills/learning/policy_learner.h"
 #include "skills/learning/progress_log.h"
 #include "skills/learning/velocity_task.h"
 #include "skills/runtime/nearest_skill.h"
@@ -116,9 +115,10 @@ struct TrainedSelector {
 };
 TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skills, const std::string& checkpoint);
 
+// With several ranks in `comm` (mpirun), config.num_envs is the whole job's, as for Trainer.
 class TaskTrainer {
  public:
-  explicit TaskTrainer(const TaskTrainConfig& config);
+  explicit TaskTrainer(const TaskTrainConfig& config, const Communicator& comm = Communicator::Self());
   TaskTrainer(const TaskTrainer&) = delete;
   TaskTrainer& operator=(const TaskTrainer&) = delete;
 
@@ -126,9 +126,11 @@ class TaskTrainer {
   void SaveCheckpoint(const std::string& path) const;
   void LoadCheckpoint(const std::string& path);
 
-  int iteration() const { return iteration_; }
-  long env_steps() const { return env_steps_; }
+  int iteration() const { return learner_.iteration(); }
+  long env_steps() const { return learner_.env_steps(); }
   TaskMethod method() const { return method_; }
+  std::shared_ptr<PpoPolicyImpl> policy() const { return policy_; }
+  RunningNormalizer normalizer() const { return learner_.normalizer(); }
   const std::optional<SkillLibrary>& library() const { return library_; }
 
  private:
@@ -138,6 +140,7 @@ class TaskTrainer {
   MirroredSamples MirroredRollout() const;
 
   TaskTrainConfig config_;
+  const Communicator& comm_;
   TaskMethod method_;
   std::optional<SkillLibrary> library_;
   int num_envs_, steps_, obs_size_;
@@ -146,8 +149,8 @@ class TaskTrainer {
   ActorCritic scratch_{nullptr};
   CategoricalActorCritic selector_{nullptr};
   std::shared_ptr<PpoPolicyImpl> policy_;
-  RunningNormalizer normalizer_{nullptr};
-  Ppo ppo_;
+  PolicyLearner learner_;
+  Rollout& rollout_;  // the learner's
 
   std::vector<PolicyRunner> skill_runners_;  // per env: the frozen skills (selector)
   std::vector<float> previous_action_;       // per env: the last joint action, zero at a reset
@@ -158,11 +161,8 @@ class TaskTrainer {
   std::vector<unsigned char> ended_;  // per env: its episode ended during this decision
   std::vector<int> last_choice_;      // per env: the selector's previous choice, -1 at an episode start
 
-  Rollout rollout_;
   torch::Tensor raw_obs_, last_values_;
   torch::Tensor raw_rollout_obs_;  // [T, N, obs] unnormalised, with mirror
-  int iteration_ = 0;
-  long env_steps_ = 0;
 };
 
 // Per axis (vx, vy, wz), the range of the velocities of the library's surviving skills, with 0

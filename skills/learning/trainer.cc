@@ -38,15 +38,6 @@ const TrainConfig& CheckedAndSeeded(const TrainConfig& config) {
 
 bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
 
-// This rank's share of the envs; every rank must hold as many.
-int LocalEnvs(const TrainConfig& config, const Communicator& comm) {
-  if (config.num_envs % comm.size() != 0) {
-    throw InputError("num_envs " + std::to_string(config.num_envs) + " does not divide among " +
-                     std::to_string(comm.size()) + " ranks: give a multiple of the rank count");
-  }
-  return config.num_envs / comm.size();
-}
-
 constexpr uint64_t kSkillStream = 1000003;  // the skill draws' seed offset from the run's seed
 
 std::vector<torch::Tensor> Parameters(const torch::optim::Optimizer& optimizer) {
@@ -84,16 +75,16 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
     : config_(CheckedAndSeeded(config)),
       comm_(comm),
       method_(ParseMethod(config.method)),
-      num_envs_(LocalEnvs(config, comm)),
+      num_envs_(LocalEnvCount(config.num_envs, comm)),
       steps_(config.steps_per_env),
       policy_obs_size_(PolicyObservationSize(config.num_skills)),
       critic_obs_size_(PolicyObservationSize(config.num_skills) + 2),
       vec_(config.env, num_envs_, config.seed, ResolveThreadCount(config.num_threads), comm.rank() * num_envs_),
       policy_(policy_obs_size_, critic_obs_size_, kActionSize, config.policy),
-      normalizer_(kNormalizedObs),
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config.pae), config.num_skills, config.discriminator),
-      ppo_(policy_.ptr(), config.ppo, comm),
+      learner_(policy_.ptr(), kNormalizedObs, config.ppo, config.seed, comm),
+      rollout_(learner_.rollout()),
       pairing_(SkillPairingOf(config.num_skills, config.symmetry)),
       constraint_terminations_(config.constraint_terminations),
       pae_optimizer_(pae_->parameters(),
@@ -114,23 +105,15 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
   ended_falls_.assign(n, 0);
   // Every rank drew the same initial parameters from the seed; from here each draws its own
   // actions and minibatches.
-  if (comm.rank() > 0) torch::manual_seed(StreamSeed(config.seed, comm.rank()));
+  SeedRankStreams(config.seed, comm);
   for (int i = 0; i < n; ++i) {
     skill_rng_.emplace_back(StreamSeed(config.seed + kSkillStream, comm.rank() * n + i));
     DrawSkill(i);
     history_.emplace_back(config.window);
     history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
   }
+  learner_.AllocateRollout({t, n, policy_obs_size_, critic_obs_size_, kActionSize, 2 * kActionSize});
   const auto f = torch::kFloat32;
-  rollout_.obs = torch::zeros({t, n, policy_obs_size_}, f);
-  rollout_.critic_obs = torch::zeros({t, n, critic_obs_size_}, f);
-  rollout_.actions = torch::zeros({t, n, kActionSize}, f);
-  rollout_.distributions = torch::zeros({t, n, 2 * kActionSize}, f);
-  rollout_.log_probs = torch::zeros({t, n}, f);
-  rollout_.values = torch::zeros({t, n}, f);
-  rollout_.rewards = torch::zeros({t, n}, f);
-  rollout_.dones = torch::zeros({t, n}, f);
-  rollout_.timeouts = torch::zeros({t, n}, f);
   raw_obs_ = torch::zeros({n, policy_obs_size_}, f);
   if (config.symmetry.enabled) raw_rollout_obs_ = torch::zeros({t, n, policy_obs_size_}, f);
   switching_ = torch::zeros({t, n}, f);
@@ -162,8 +145,8 @@ torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
     BuildPolicyObservation(vec_.motion_obs() + i * kMotionObsSize, &previous_action_[i * kActionSize],
                            skill_[i], config_.num_skills, raw + i * policy_obs_size_);
   }
-  if (update_normalizer) UpdateNormalizer(normalizer_, raw_obs_.slice(1, 0, kNormalizedObs), comm_);
-  return NormalizeLeadingColumns(normalizer_, raw_obs_);
+  if (update_normalizer) learner_.UpdateNormalizer(raw_obs_.slice(1, 0, kNormalizedObs));
+  return NormalizeLeadingColumns(learner_.normalizer(), raw_obs_);
 }
 
 void Trainer::SkillFramePosition(int i, const float* world, float* out) const {
@@ -339,7 +322,7 @@ void Trainer::ComputeRewards(IterationStats& stats) {
   if (violations_.defined()) {
     // CaT: a violation ends the episode with its probability, which scales the step's reward and
     // what the step bootstraps from its successor.
-    const torch::Tensor p = constraint_terminations_.Probabilities(violations_, iteration_, comm_, stats.constraints);
+    const torch::Tensor p = constraint_terminations_.Probabilities(violations_, learner_.iteration(), comm_, stats.constraints);
     rewards = rewards * (1.0 - p);
     rollout_.dones.copy_(torch::max(rollout_.dones, p));
   }
@@ -375,7 +358,7 @@ MirroredSamples Trainer::MirroredRollout() const {
   const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
   MirroredSamples m;
   const torch::Tensor raw = raw_rollout_obs_.view({count, policy_obs_size_});
-  m.obs = NormalizeLeadingColumns(normalizer_, MirrorAlong(mirror::PolicyObservation(pairing_), raw, 1));
+  m.obs = NormalizeLeadingColumns(learner_.normalizer(), MirrorAlong(mirror::PolicyObservation(pairing_), raw, 1));
   const torch::Tensor position = rollout_.critic_obs.view({count, critic_obs_size_}).slice(1, policy_obs_size_);
   m.critic_obs = torch::cat({m.obs, MirrorAlong(mirror::PlanarPosition(), position, 1)}, 1);
   m.actions = MirrorAlong(mirror::Joints(), rollout_.actions.view({count, kActionSize}), 1);
@@ -421,12 +404,11 @@ IterationStats Trainer::RunIteration() {
   stats.seconds_reward = Since(phase);
 
   phase = Clock::now();
-  const Returns returns = ComputeReturns(rollout_, last_values_, config_.ppo.gamma, config_.ppo.lambda, comm_);
   if (config_.symmetry.enabled) {
     const MirroredSamples mirrored = MirroredRollout();
-    stats.ppo = ppo_.Update(rollout_, returns, &mirrored);
+    stats.ppo = learner_.Update(last_values_, &mirrored);
   } else {
-    stats.ppo = ppo_.Update(rollout_, returns);
+    stats.ppo = learner_.Update(last_values_);
   }
   stats.seconds_ppo = Since(phase);
 
@@ -438,11 +420,10 @@ IterationStats Trainer::RunIteration() {
   stats.discriminator_loss = UpdateDiscriminator();
   stats.seconds_discriminator = Since(phase);
 
-  ++iteration_;
   const long job_steps = static_cast<long>(steps_) * num_envs_ * comm_.size();
-  env_steps_ += job_steps;
-  stats.iteration = iteration_;
-  stats.env_steps = env_steps_;
+  learner_.CountIteration(job_steps);
+  stats.iteration = learner_.iteration();
+  stats.env_steps = learner_.env_steps();
   stats.action_std = policy_->Std().mean().item<double>();
   stats.collectives = comm_.TakeTally();
   stats.seconds_total = Since(start);
@@ -455,19 +436,12 @@ IterationStats Trainer::RunIteration() {
 
 void Trainer::SaveCheckpoint(const std::string& path) const {
   torch::serialize::OutputArchive archive;
-  WriteModule(archive, "policy", *policy_);
-  WriteModule(archive, "normalizer", *normalizer_);
+  learner_.Write(archive);
   WriteModule(archive, "pae", *pae_);
   WriteModule(archive, "discriminator", *discriminator_);
-  WriteOptimizer(archive, "policy_optimizer", ppo_.optimizer());
   WriteOptimizer(archive, "pae_optimizer", pae_optimizer_);
   WriteOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
   archive.write("config", c10::IValue(ToYamlString(config_)));
-  archive.write("iteration", c10::IValue(static_cast<int64_t>(iteration_)));
-  archive.write("env_steps", c10::IValue(static_cast<int64_t>(env_steps_)));
-  archive.write("learning_rate", c10::IValue(ppo_.learning_rate()));
-  archive.write("ranks", c10::IValue(static_cast<int64_t>(comm_.size())));
-  WriteTorchRng(archive);
   archive.write("skill_rng", c10::IValue(RngState(skill_rng_)));
   archive.write("constraint_scales", c10::IValue(constraint_terminations_.State()));
   WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
@@ -480,10 +454,7 @@ TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& ch
   out.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
   out.normalizer = RunningNormalizer(kNormalizedObs);
   try {
-    ReadModule(archive, "policy", *out.policy);
-    ReadModule(archive, "normalizer", *out.normalizer);
-    out.iteration = static_cast<int>(ReadInt(archive, "iteration"));
-    out.env_steps = static_cast<long>(ReadInt(archive, "env_steps"));
+    ReadPolicyParts(archive, *out.policy, *out.normalizer, out.iteration, out.env_steps);
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(checkpoint, e);
   } catch (const InputError& e) {
@@ -495,31 +466,21 @@ TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& ch
 void Trainer::LoadCheckpoint(const std::string& path) {
   torch::serialize::InputArchive archive = OpenCheckpoint(path);
   try {
-    ReadModule(archive, "policy", *policy_);
-    ReadModule(archive, "normalizer", *normalizer_);
+    const bool streams_restored = learner_.Read(archive);
     ReadModule(archive, "pae", *pae_);
     ReadModule(archive, "discriminator", *discriminator_);
-    ReadOptimizer(archive, "policy_optimizer", ppo_.optimizer());
     ReadOptimizer(archive, "pae_optimizer", pae_optimizer_);
     ReadOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
-    iteration_ = static_cast<int>(ReadInt(archive, "iteration"));
-    env_steps_ = static_cast<long>(ReadInt(archive, "env_steps"));
-    ppo_.set_learning_rate(ReadDouble(archive, "learning_rate"));
     c10::IValue scales{std::string()};  // checkpoints from before constraints as terminations
     if (archive.try_read("constraint_scales", scales) && !scales.toStringRef().empty()) {
       constraint_terminations_.Restore(scales.toStringRef(), path);
     }
-    c10::IValue ranks(static_cast<int64_t>(1));  // checkpoints from before data parallelism
-    archive.try_read("ranks", ranks);
-    if (comm_.size() == 1 && ranks.toInt() == 1) {
-      ReadTorchRng(archive);
+    if (streams_restored) {
       RestoreRngState(ReadString(archive, "skill_rng"), skill_rng_, "skill");
     } else {
-      // The saved streams are the leader's alone: every rank draws fresh ones for this layout.
       const int first = comm_.rank() * num_envs_;
-      torch::manual_seed(StreamSeed(StreamSeed(config_.seed, comm_.rank()), iteration_));
       for (int i = 0; i < num_envs_; ++i) {
-        skill_rng_[i].seed(StreamSeed(StreamSeed(config_.seed + kSkillStream, first + i), iteration_));
+        skill_rng_[i].seed(StreamSeed(StreamSeed(config_.seed + kSkillStream, first + i), learner_.iteration()));
       }
     }
   } catch (const c10::Error& e) {

@@ -17,7 +17,7 @@
 #include "skills/learning/motion_history.h"
 #include "skills/learning/normalizer.h"
 #include "skills/learning/pae.h"
-#include "skills/learning/ppo.h"
+#include "skills/learning/policy_learner.h"
 #include "skills/learning/train_config.h"
 
 namespace flsd {
@@ -88,10 +88,10 @@ class Trainer {
 
   const TrainConfig& config() const { return config_; }
   Method method() const { return method_; }
-  int iteration() const { return iteration_; }
-  long env_steps() const { return env_steps_; }
+  int iteration() const { return learner_.iteration(); }
+  long env_steps() const { return learner_.env_steps(); }
   ActorCritic policy() const { return policy_; }
-  RunningNormalizer normalizer() const { return normalizer_; }
+  RunningNormalizer normalizer() const { return learner_.normalizer(); }
   PeriodicAutoencoder pae() const { return pae_; }
   Discriminator discriminator() const { return discriminator_; }
   int policy_obs_size() const { return policy_obs_size_; }
@@ -126,10 +126,10 @@ class Trainer {
   VecEnv vec_;
 
   ActorCritic policy_{nullptr};
-  RunningNormalizer normalizer_{nullptr};
   PeriodicAutoencoder pae_{nullptr};
   Discriminator discriminator_{nullptr};
-  Ppo ppo_;
+  PolicyLearner learner_;
+  Rollout& rollout_;  // the learner's
   mirror::SkillPairing pairing_;
   ConstraintTerminations constraint_terminations_;
   torch::optim::AdamW pae_optimizer_;
@@ -147,8 +147,7 @@ class Trainer {
   std::vector<float> critic_position_;               // per env: q_xy in the skill's frame
   std::vector<int> ended_, ended_length_sum_, ended_falls_;
 
-  // The rollout, [T, N, ...].
-  Rollout rollout_;
+  // The rollout's other parts, [T, N, ...].
   torch::Tensor raw_obs_;        // [N, policy_obs_size], this step's unnormalised o^p
   torch::Tensor raw_rollout_obs_;  // [T, N, policy_obs_size] unnormalised o^p (symmetry)
   torch::Tensor switching_;      // [T, N] 1 within reward_mask_steps of a skill switch
@@ -161,9 +160,6 @@ class Trainer {
   torch::Tensor discriminator_obs_;     // [M, o^d], the discriminator's training samples
   torch::Tensor discriminator_labels_;  // [M] int64
   torch::Tensor last_values_;    // [N]
-
-  int iteration_ = 0;
-  long env_steps_ = 0;
 };
 
 }  // namespace flsd

@@ -14,6 +14,7 @@
 #include "core/check.h"
 #include "core/thread_pool.h"
 #include "flsd_commit.h"
+#include "skills/learning/policy_learner.h"
 #include "skills/learning/run_loop.h"
 #include "skills/learning/trainer.h"
 
@@ -100,6 +101,24 @@ void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, boo
           << (from_checkpoint.empty() ? "" : " (from " + from_checkpoint + ")") << "\n";
 }
 
+const Communicator& StartRun(const RunFolder& folder, const std::string& config_yaml, bool resume, int num_envs,
+                             int threads, const std::string& from_checkpoint) {
+  const Communicator& comm = Communicator::World();
+  const int local_envs = LocalEnvCount(num_envs, comm);
+  if (comm.leader()) {
+    RecordRunStart(folder, config_yaml, resume, from_checkpoint);
+  } else {
+    spdlog::set_level(spdlog::level::warn);  // the leader speaks for the job
+  }
+  ConfigureTorchThreads(threads);
+  if (comm.size() == 1) {
+    WarnIfOversubscribed(threads);
+  } else {
+    spdlog::info("{} ranks, {} envs and {} threads each", comm.size(), local_envs, threads);
+  }
+  return comm;
+}
+
 int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop_requested) {
   const RunFolder folder = OpenRunFolder(options.run_dir, options.resume);
   if (options.resume && !options.from_checkpoint.empty()) {
@@ -129,20 +148,9 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
   }
   if (options.threads > 0) config.num_threads = options.threads;
   ValidateTrainConfig(config, folder.config_file);
-  const Communicator& comm = Communicator::World();
-  if (comm.leader()) {
-    RecordRunStart(folder, ToYamlString(config), options.resume, options.from_checkpoint);
-  } else {
-    spdlog::set_level(spdlog::level::warn);  // the leader speaks for the job
-  }
-  ConfigureTorchThreads(config.num_threads);
-  if (comm.size() == 1) WarnIfOversubscribed(config.num_threads);
-
+  const Communicator& comm = StartRun(folder, ToYamlString(config), options.resume, config.num_envs,
+                                      config.num_threads, options.from_checkpoint);
   Trainer trainer(config, comm);
-  if (comm.size() > 1) {
-    spdlog::info("{} ranks, {} envs and {} threads each", comm.size(), config.num_envs / comm.size(),
-                 config.num_threads);
-  }
   if (options.resume) {
     trainer.LoadCheckpoint(folder.checkpoint);
     spdlog::info("resumed {} at iteration {} ({} env steps)", options.run_dir, trainer.iteration(), trainer.env_steps());

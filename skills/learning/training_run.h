@@ -3,6 +3,9 @@
 #include <string>
 #include <vector>
 
+#include "skills/learning/communicator.h"
+#include "skills/learning/run_loop.h"
+
 namespace flsd {
 
 struct TrainingRunOptions {
@@ -25,6 +28,13 @@ struct TrainingRunOptions {
 // is kept, nothing is written over it). Runs alone, or as one rank of the MPI job it was launched
 // in (Communicator::World()): each rank steps its share of config.num_envs, the leader alone writes.
 int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop_requested);
+
+// Joins the job's ranks (Communicator::World(): the mpirun job, or this process alone) and starts
+// a run in `folder`: the leader records it (RecordRunStart), the other ranks leave the talking to
+// it, and libtorch gets `threads` threads. Throws InputError unless `num_envs` divides among the
+// ranks.
+const Communicator& StartRun(const RunFolder& folder, const std::string& config_yaml, bool resume, int num_envs,
+                             int threads, const std::string& from_checkpoint = "");
 
 // Limits BLAS to one thread: libtorch parallelises its own kernels, and OpenBLAS's own pool on
 // top of it oversubscribes the cores (measured: a 4096-sample MLP update 15x slower).

@@ -8,9 +8,9 @@
 namespace flsd {
 
 VelocityTask::VelocityTask(const EnvConfig& env, const VelocityTaskConfig& config, int num_envs, uint64_t seed,
-                           int num_threads)
+                           int num_threads, int first_env)
     : config_(config),
-      vec_(env, num_envs, seed, num_threads),
+      vec_(env, num_envs, seed, num_threads, first_env),
       resampling_steps_(std::max(1, static_cast<int>(std::lround(config.commands.resampling_s / a1::kControlDt)))),
       command_(num_envs, Eigen::Vector3d::Zero()),
       steps_since_command_(num_envs, 0),
@@ -18,7 +18,7 @@ VelocityTask::VelocityTask(const EnvConfig& env, const VelocityTaskConfig& confi
       terms_(num_envs),
       rewards_(num_envs, 0.0f) {
   for (int i = 0; i < num_envs; ++i) {
-    command_rng_.emplace_back(StreamSeed(seed + 7919ULL, i));
+    command_rng_.emplace_back(StreamSeed(seed + kCommandStream, first_env + i));
     NewCommand(i);
     reward_[i].Reset(vec_.env(i).state());
   }

@@ -25,7 +25,12 @@ struct VelocityTaskConfig {
 
 class VelocityTask {
  public:
-  VelocityTask(const EnvConfig& env, const VelocityTaskConfig& config, int num_envs, uint64_t seed, int num_threads);
+  static constexpr uint64_t kCommandStream = 7919;  // the command draws' seed offset from the run's seed
+
+  // As VecEnv, a data-parallel rank holds envs [first_env, first_env + num_envs) of a larger batch
+  // and draws the commands those envs would draw in one process.
+  VelocityTask(const EnvConfig& env, const VelocityTaskConfig& config, int num_envs, uint64_t seed, int num_threads,
+               int first_env = 0);
 
   int num_envs() const { return vec_.num_envs(); }
   VecEnv& vec_env() { return vec_; }

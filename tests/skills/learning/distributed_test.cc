@@ -1,7 +1,7 @@
 // Data-parallel training, run by ctest under `mpirun -np 2`: ranks that each take their share of a
 // fixed batch make the same update as one process taking all of it (PPO, the PAE, the
-// discriminator), the normaliser's statistics merge exactly, and a Trainer's ranks keep identical
-// parameters. Every rank runs every collective before it asserts anything, so that a failing
+// discriminator), the normaliser's statistics merge exactly, and the ranks of a Trainer and of a
+// TaskTrainer keep identical parameters. Every rank runs every collective before it asserts anything, so that a failing
 // check cannot leave the other rank waiting.
 
 #include <gtest/gtest.h>
@@ -15,6 +15,7 @@
 #include "skills/learning/normalizer.h"
 #include "skills/learning/pae.h"
 #include "skills/learning/ppo.h"
+#include "skills/learning/task_trainer.h"
 #include "skills/learning/trainer.h"
 
 namespace flsd {
@@ -202,6 +203,28 @@ TEST_F(Distributed, TrainerRanksKeepIdenticalParametersAndCountTheWholeJob) {
   EXPECT_EQ(stats.env_steps, 2L * config.num_envs * config.steps_per_env);
   EXPECT_GT(stats.collectives.calls, 0);
   EXPECT_EQ(trainer.vec_env().num_envs(), config.num_envs / World().size());
+}
+
+TEST_F(Distributed, SelectorRanksKeepIdenticalParametersAndCountTheWholeJob) {
+  TaskTrainConfig config = LoadTaskTrainConfig(ResolveDataPath("configs/selector_smoke.yaml"));
+  config.library = ResolveDataPath(config.library);
+  const SkillLibrary library = SkillLibrary::Load(config.library);  // its skills run behind their own filter
+  config.env.action_filter_hz = library.action_filter_hz();
+  config.env.action_filter_order = library.action_filter_order();
+  config.mirror = true;
+  TaskTrainer trainer(config, World());
+  TaskIterationStats stats;
+  for (int i = 0; i < 2; ++i) stats = trainer.RunIteration();
+  double checksum = trainer.normalizer()->mean().sum().item<double>();
+  for (const torch::Tensor& p : trainer.policy()->parameters()) {
+    checksum += p.to(torch::kFloat64).abs().sum().item<double>();
+  }
+  const std::vector<double> checksums = World().Gather({checksum});
+  for (double c : checksums) EXPECT_NEAR(c, checksums[0], 1e-9 * std::abs(checksums[0])) << "parameters diverged";
+  EXPECT_EQ(stats.env_steps, 2L * config.num_envs * config.steps_per_env * config.decision_interval);
+  // Every rank reports the job's figures: the same on each.
+  const std::vector<double> rewards = World().Gather({stats.mean_reward});
+  for (double r : rewards) EXPECT_EQ(r, rewards[0]);
 }
 
 TEST_F(Distributed, EnvCountThatDoesNotDivideIsAnInputError) {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `flsd train` as an MPI job on loopback, end to end: two ranks train, one rank resumes their
 # checkpoint and two resume again; a rank killed mid-run takes the job down with a message naming
-# it, and the last checkpoint still resumes.
+# it, and the last checkpoint still resumes. `flsd train-selector` trains on two ranks and resumes
+# on one.
 # Usage: mpi_training_test.sh FLSD MPIRUN SOURCE_DIR
 set -euo pipefail
 flsd=$1 mpirun=$2 root=$3
@@ -51,4 +52,14 @@ grep -qE "rank [0-9]+ .*exited on signal 9" "$dir/log" || fail "mpirun did not n
 
 "$flsd" train --resume --out "$run" --iterations $(($(rows) + 1)) > "$dir/log" 2>&1 ||
   fail "the last checkpoint did not resume after the kill"
+# The selector: two ranks train, one resumes.
+run="$dir/selector"
+"${mpi[@]}" "$flsd" train-selector --config "$root/configs/selector_smoke.yaml" --library "$root/models/a1_flsd.safetensors" \
+  --out "$run" --iterations 2 --threads 1 > "$dir/log" 2>&1 || fail "two ranks did not train the selector"
+grep -q "2 ranks, 4 envs and 1 threads each" "$dir/log" || fail "the selector job did not report its layout"
+[ "$(rows)" -eq 2 ] || fail "selector on two ranks: expected 2 progress rows, got $(rows)"
+# selector_smoke.yaml: 8 envs x 16 decisions of 1 control step per iteration.
+[ "$(last_env_steps)" -eq $((2 * 8 * 16)) ] || fail "selector env_steps $(last_env_steps) is not the whole job's"
+"$flsd" train-selector --resume --out "$run" --iterations 3 > "$dir/log" 2>&1 || fail "one rank did not resume the selector"
+[ "$(rows)" -eq 3 ] || fail "selector on one rank: expected 3 progress rows, got $(rows)"
 echo "PASS"

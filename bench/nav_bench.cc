@@ -1,20 +1,13 @@
 #include "bench/nav_bench.h"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <thread>
 #include <vector>
 
 #include "bench/machine.h"
+#include "bench/skilld_process.h"
 #include "bench/stats.h"
 #include "client/client.h"
 #include "core/check.h"
@@ -22,46 +15,12 @@
 #include "core/rng.h"
 #include "server/navigation/map2d.h"
 #include "server/navigation/path_planner.h"
-
-extern char** environ;
+#include "skills/runtime/library_format.h"
 
 namespace flsd {
 namespace {
 
 namespace fs = std::filesystem;
-
-// skilld with the simulated A1 for the length of the benchmark, its log in a file.
-class SkilldProcess {
- public:
-  SkilldProcess(const std::string& library, int domain_id, const std::string& partition, const std::string& log) {
-    const std::string skilld = (fs::read_symlink("/proc/self/exe").parent_path() / "skilld").string();
-    const std::string domain = std::to_string(domain_id);
-    const char* argv[] = {skilld.c_str(), "--backend", "sim", "--library", library.c_str(), "--domain", domain.c_str(),
-                          "--partition", partition.c_str(), nullptr};
-    posix_spawn_file_actions_t output;
-    posix_spawn_file_actions_init(&output);
-    posix_spawn_file_actions_addopen(&output, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&output, 1, 2);
-    const int spawned = posix_spawn(&pid_, skilld.c_str(), &output, nullptr, const_cast<char**>(argv), environ);
-    posix_spawn_file_actions_destroy(&output);
-    if (spawned != 0) throw InputError("cannot start " + skilld + ": build it first (make build)");
-  }
-  ~SkilldProcess() {
-    kill(pid_, SIGINT);  // skilld damps the robot and leaves
-    for (int i = 0; i < 100 && waitpid(pid_, nullptr, WNOHANG) == 0; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    if (kill(pid_, 0) == 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
-  SkilldProcess(const SkilldProcess&) = delete;
-  SkilldProcess& operator=(const SkilldProcess&) = delete;
-
- private:
-  pid_t pid_ = 0;
-};
 
 struct Goal {
   Eigen::Vector2d start, goal;
@@ -95,16 +54,7 @@ double PathLength(const std::vector<double>& flat) {
 
 // One navigation from a fresh reset; the robot is stopped afterwards.
 nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, double top_speed) {
-  const Reply reset = client.Reset();
-  if (!reset.ok()) throw InputError("reset: " + reset.Describe());
-  // The controller applies the reset at its next tick: plan only from the reset pose.
-  const auto reset_by = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  for (uint64_t tick = 0; std::chrono::steady_clock::now() < reset_by;) {
-    const std::optional<StateReport> state = client.NextState(tick, std::chrono::milliseconds(500));
-    if (!state) continue;
-    tick = state->tick;
-    if (std::hypot(state->position[0], state->position[1]) < 0.05) break;
-  }
+  ResetAndWait(client);
   const Eigen::Vector2d local_goal = goal.goal - goal.start;
   const double duration = std::min(300.0, 20.0 + 4.0 * goal.planned_length / top_speed);
   const Task task = client.Navigate(local_goal.x(), local_goal.y(), map.Shifted(goal.start).ToYaml(), duration);
@@ -150,26 +100,13 @@ nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, doub
 }  // namespace
 
 nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
-  // Everything stays on this machine unless the user has configured Cyclone otherwise.
-  const std::string loopback = "file://" + ResolveDataPath("configs/cyclonedds_loopback.xml");
-  setenv("CYCLONEDDS_URI", loopback.c_str(), /*overwrite=*/0);
-  const std::string partition = "navbench-" + std::to_string(getpid());
-  const std::string log = (fs::temp_directory_path() / (partition + ".log")).string();
-  SkilldProcess skilld(ResolveDataPath(options.library), options.domain_id, partition, log);
-
-  Client::Options client_options;
-  client_options.domain_id = options.domain_id;
-  client_options.partition = partition;
-  Client client(client_options);
-  if (!client.WaitForServer(std::chrono::seconds(60))) {
-    throw InputError("skilld did not answer within 60 s (its log: " + log + ")");
-  }
-  const Reply control = client.AcquireControl();
-  if (!control.ok()) throw InputError("acquire_control: " + control.Describe());
+  SkilldProcess skilld(options.library, options.domain_id, "navbench");
+  const std::unique_ptr<Client> served = skilld.Connect();
+  Client& client = *served;
   // The ideal speed: the fastest skill the server serves (the selector's choices).
   double top_speed = 0.0;
   for (const SkillInfo& s : client.ListSkills()) {
-    if (s.survival_steps >= 500) top_speed = std::max(top_speed, std::hypot(s.linear_velocity[0], s.linear_velocity[1]));
+    if (Survives(s.survival_steps)) top_speed = std::max(top_speed, std::hypot(s.linear_velocity[0], s.linear_velocity[1]));
   }
   if (!(top_speed > 0.0)) throw InputError(options.library + ": no skill that survives 500 steps moves");
 

@@ -10,8 +10,8 @@
 #include "core/check.h"
 #include "bench/sim_bench.h"
 #include "core/paths.h"
-#include "skills/learning/trainer.h"
-#include "skills/learning/training_run.h"
+#include "skills/learning/runners/trainer.h"
+#include "skills/learning/runners/training_run.h"
 
 namespace flsd {
 

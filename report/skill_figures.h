@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "report/svg_plot.h"
-#include "skills/learning/metrics.h"
+#include "skills/learning/evaluation/metrics.h"
 
 namespace flsd {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "skills/learning/metrics.h"
+#include "skills/learning/evaluation/metrics.h"
 
 namespace flsd {
 

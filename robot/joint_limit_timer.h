@@ -1,7 +1,7 @@
 #pragma once
 // How long each joint has kept breaking a limit. skilld's supervisor stops the robot by it
 // (server/safety.h), training ends an episode by it (sim/env.h) and `flsd eval` reports a skill's
-// longest overspeed by it (skills/learning/metrics.h): one rule, so that a skill is trained and
+// longest overspeed by it (skills/learning/evaluation/metrics.h): one rule, so that a skill is trained and
 // judged by the limits it is served under.
 
 #include <algorithm>

@@ -2,7 +2,7 @@
 // What a simulated step violated of the constraints that training ends episodes by with a
 // probability (Chane-Sane et al., "CaT: Constraints as Terminations for Legged Locomotion", 2024).
 // Each violation is in physical units and 0 where the step kept within the limit; how likely a
-// violation is to end the episode is the trainer's business (skills/learning/constraint_terminations.h).
+// violation is to end the episode is the trainer's business (skills/learning/algorithms/constraint_terminations.h).
 
 #include <array>
 

@@ -1,4 +1,4 @@
-// flsd bench: sim, train, mpi, policy, hw, plan, nav. Each prints one JSON object.
+// flsd bench: sim, train, mpi, policy, hw, plan, nav, vel. Each prints one JSON object.
 
 #include <cstdio>
 #include <memory>
@@ -9,6 +9,7 @@
 #include "bench/policy_bench.h"
 #include "bench/sim_bench.h"
 #include "bench/train_bench.h"
+#include "bench/vel_bench.h"
 #include "tools/flsd/subcommands.h"
 
 namespace flsd::cli {
@@ -93,6 +94,16 @@ void AddBenchmarks(CLI::App& app, Subcommands& out) {
         cmd.add_option("--domain", o.domain_id, "DDS domain of the skilld it starts")->check(CLI::Range(0, 232));
       },
       RunNavBenchmark);
+  AddBenchmark<VelBenchOptions>(
+      *bench, out, "vel", "The eight tracking commands through a real skilld, from fresh resets",
+      [](CLI::App& cmd, VelBenchOptions& o) {
+        cmd.add_option("--library", o.library, "Skill library skilld serves");
+        cmd.add_option("--seconds", o.seconds, "Seconds each command is held")->check(CLI::Range(0.5, 600.0));
+        cmd.add_option("--settle", o.settle_seconds, "Seconds before the velocity is measured")
+            ->check(CLI::Range(0.0, 600.0));
+        cmd.add_option("--domain", o.domain_id, "DDS domain of the skilld it starts")->check(CLI::Range(0, 232));
+      },
+      RunVelBenchmark);
 }
 
 }  // namespace flsd::cli

@@ -5,10 +5,10 @@
 #include <string>
 
 #include "core/paths.h"
-#include "skills/learning/evaluation.h"
-#include "skills/learning/export.h"
-#include "skills/learning/tracking_eval.h"
-#include "skills/learning/training_run.h"
+#include "skills/learning/evaluation/evaluation.h"
+#include "skills/learning/evaluation/export.h"
+#include "skills/learning/evaluation/tracking_eval.h"
+#include "skills/learning/runners/training_run.h"
 #include "skills/runtime/skill_library.h"
 #include "tools/flsd/subcommands.h"
 

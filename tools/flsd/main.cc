@@ -7,7 +7,7 @@
 #include <string>
 
 #include "core/check.h"
-#include "skills/learning/communicator.h"
+#include "skills/learning/runners/communicator.h"
 #include "tools/flsd/subcommands.h"
 
 namespace {

@@ -10,9 +10,9 @@
 #include "core/check.h"
 #include "flsd_commit.h"
 #include "report/skill_report.h"
-#include "skills/learning/evaluation.h"
-#include "skills/learning/run_loop.h"
-#include "skills/learning/trainer.h"
+#include "skills/learning/evaluation/evaluation.h"
+#include "skills/learning/runners/run_loop.h"
+#include "skills/learning/runners/trainer.h"
 #include "tools/flsd/subcommands.h"
 
 namespace flsd {

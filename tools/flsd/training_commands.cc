@@ -4,8 +4,8 @@
 #include <memory>
 
 #include "core/check.h"
-#include "skills/learning/task_trainer.h"
-#include "skills/learning/training_run.h"
+#include "skills/learning/runners/task_trainer.h"
+#include "skills/learning/runners/training_run.h"
 #include "tools/flsd/subcommands.h"
 
 namespace flsd::cli {

@@ -9,7 +9,7 @@
 
 #include <cstdio>
 
-#include "skills/learning/export.h"
+#include "skills/learning/evaluation/export.h"
 #include "skills/runtime/hierarchical_policy.h"
 #include "tests/common/test_support.h"
 

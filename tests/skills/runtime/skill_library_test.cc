@@ -12,7 +12,7 @@
 #include <fstream>
 
 #include "robot/observation.h"
-#include "skills/learning/export.h"
+#include "skills/learning/evaluation/export.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
 

@@ -1,0 +1,80 @@
+#include "bench/skilld_process.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <thread>
+
+#include "core/check.h"
+#include "core/paths.h"
+
+extern char** environ;
+
+namespace flsd {
+
+namespace fs = std::filesystem;
+
+SkilldProcess::SkilldProcess(const std::string& library, int domain_id, const std::string& name)
+    : domain_id_(domain_id), partition_(name + "-" + std::to_string(getpid())) {
+  const std::string loopback = "file://" + ResolveDataPath("configs/cyclonedds_loopback.xml");
+  setenv("CYCLONEDDS_URI", loopback.c_str(), /*overwrite=*/0);
+  log_ = (fs::temp_directory_path() / (partition_ + ".log")).string();
+  const std::string skilld = (fs::read_symlink("/proc/self/exe").parent_path() / "skilld").string();
+  const std::string resolved = ResolveDataPath(library);
+  const std::string domain = std::to_string(domain_id);
+  const char* argv[] = {skilld.c_str(), "--backend", "sim",          "--library", resolved.c_str(), "--domain",
+                        domain.c_str(), "--partition", partition_.c_str(), nullptr};
+  posix_spawn_file_actions_t output;
+  posix_spawn_file_actions_init(&output);
+  posix_spawn_file_actions_addopen(&output, 1, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&output, 1, 2);
+  const int spawned = posix_spawn(&pid_, skilld.c_str(), &output, nullptr, const_cast<char**>(argv), environ);
+  posix_spawn_file_actions_destroy(&output);
+  if (spawned != 0) throw InputError("cannot start " + skilld + ": build it first (make build)");
+}
+
+SkilldProcess::~SkilldProcess() {
+  kill(pid_, SIGINT);
+  for (int i = 0; i < 100 && waitpid(pid_, nullptr, WNOHANG) == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (kill(pid_, 0) == 0) {
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+  }
+}
+
+std::unique_ptr<Client> SkilldProcess::Connect() const {
+  Client::Options options;
+  options.domain_id = domain_id_;
+  options.partition = partition_;
+  auto client = std::make_unique<Client>(options);
+  if (!client->WaitForServer(std::chrono::seconds(60))) {
+    throw InputError("skilld did not answer within 60 s (its log: " + log_ + ")");
+  }
+  const Reply control = client->AcquireControl();
+  if (!control.ok()) throw InputError("acquire_control: " + control.Describe());
+  return client;
+}
+
+void ResetAndWait(Client& client) {
+  const Reply reset = client.Reset();
+  if (!reset.ok()) throw InputError("reset: " + reset.Describe());
+  // The controller applies the reset at its next tick.
+  const auto reset_by = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  for (uint64_t tick = 0; std::chrono::steady_clock::now() < reset_by;) {
+    const std::optional<StateReport> state = client.NextState(tick, std::chrono::milliseconds(500));
+    if (!state) continue;
+    tick = state->tick;
+    if (std::hypot(state->position[0], state->position[1]) < 0.05) return;
+  }
+}
+
+}  // namespace flsd

@@ -1,0 +1,23 @@
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace flsd {
+
+struct VelBenchOptions {
+  std::string library = "models/a1_flsd.safetensors";
+  double seconds = 4.0;         // each command is held this long
+  double settle_seconds = 1.0;  // and measured after this
+  int domain_id = 44;
+};
+
+// Velocity tracking as a user gets it: the eight commands of `flsd track` (stand, forward,
+// backward, left, right, turn left, turn right, forward while turning) sent to a real skilld
+// (simulated A1, the library and the selector it serves) as `track_velocity` calls, each from a
+// fresh reset. The achieved velocity is the mean body velocity on the state topic after the settle
+// time. Per command the errors; over them the RMS errors, the falls, and how many commands hold
+// within 0.2 m/s and 0.3 rad/s.
+nlohmann::json RunVelBenchmark(const VelBenchOptions& options);
+
+}  // namespace flsd

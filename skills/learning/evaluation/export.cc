@@ -1,0 +1,190 @@
+#include "skills/learning/evaluation/export.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/check.h"
+#include "flsd_commit.h"
+#include "robot/observation.h"
+#include "skills/learning/runners/run_loop.h"
+#include "skills/learning/runners/task_trainer.h"
+#include "skills/learning/evaluation/tracking_eval.h"
+#include "skills/runtime/skill_library.h"
+#include "skills/runtime/library_format.h"
+#include "skills/runtime/safetensors.h"
+#include "skills/runtime/skill_library.h"
+
+namespace flsd {
+namespace {
+
+FloatTensor ToFloatTensor(const torch::Tensor& t) {
+  const torch::Tensor c = t.detach().to(torch::kFloat32).contiguous();
+  FloatTensor out;
+  out.shape.assign(c.sizes().begin(), c.sizes().end());
+  out.values.assign(c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+  return out;
+}
+
+// The Linear layers of `mlp` as `layer_prefix`layer<l>.{weight,bias}, and the normaliser as
+// `normalizer_prefix`{mean,std}: the layout SkillLibrary reads (skills/runtime/skill_library.cc).
+void AddNetwork(SafeTensors& file, const torch::nn::Sequential& mlp, const RunningNormalizer& normalizer,
+                const std::string& layer_prefix, const std::string& normalizer_prefix) {
+  int layer = 0;
+  for (const auto& module : mlp->children()) {
+    if (const auto* linear = module->as<torch::nn::Linear>()) {
+      const std::string name = layer_prefix + "layer" + std::to_string(layer++);
+      file.tensors[name + ".weight"] = ToFloatTensor(linear->weight);
+      file.tensors[name + ".bias"] = ToFloatTensor(linear->bias);
+    }
+  }
+  file.tensors[normalizer_prefix + "mean"] = ToFloatTensor(normalizer->mean());
+  file.tensors[normalizer_prefix + "std"] = ToFloatTensor(normalizer->Std());
+}
+
+// The run's commits file; a run without one says so rather than leaving provenance blank.
+std::string ReadCommits(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return "unknown (the run has no commits file)";
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy, const Evaluation& evaluation,
+                                    const Evaluation& randomized, const ExportProvenance& provenance) {
+  nlohmann::json metadata;
+  VisitLibraryFacts([&](const std::string& pointer, const auto& value) { metadata[nlohmann::json::json_pointer(pointer)] = value; },
+                    config.num_skills);
+  metadata["num_skills"] = config.num_skills;
+  metadata["action"]["filter_hz"] = config.env.action_filter_hz;
+  metadata["action"]["filter_order"] = config.env.action_filter_order;
+  metadata["policy"]["hidden"] = config.policy.actor_hidden;
+  metadata["policy"]["layers"] = config.policy.actor_hidden.size() + 1;
+  metadata["policy"]["normalizer_eps"] = RunningNormalizerImpl::kEps;
+  metadata["training"] = {{"method", config.method},
+                          {"iteration", policy.iteration},
+                          {"env_steps", policy.env_steps},
+                          {"config", ToYamlString(config)},
+                          {"run", provenance.run},
+                          {"commits", provenance.commits},
+                          {"export_commit", provenance.export_commit}};
+  nlohmann::json evaluation_json = EvaluationJson(evaluation);
+  evaluation_json.erase("skills");  // per skill, the descriptors below
+  metadata["evaluation"] = evaluation_json;
+  metadata["randomized_evaluation"] = EvaluationJson(randomized);
+  nlohmann::json skills = nlohmann::json::array();
+  const mirror::SkillPairing pairing = SkillPairingOf(config.num_skills, config.symmetry);
+  for (const SkillSummary& s : evaluation.skills) {
+    const SkillSummary& r = randomized.skills.at(s.skill);
+    SkillDescriptor d;
+    d.id = s.skill;
+    d.mirror_skill = pairing(s.skill);
+    d.mean_linear_velocity = Eigen::Vector3d(s.mean_linear_velocity.data());
+    d.mean_angular_velocity = Eigen::Vector3d(s.mean_angular_velocity.data());
+    d.mean_base_height = s.mean_base_height;
+    d.mean_stance_foot_speed = s.mean_stance_foot_speed;
+    d.gait_frequency_hz = s.gait_frequency_hz;
+    d.survival_steps = s.survival_steps;
+    d.fell = s.fell;
+    d.randomized_survival_steps = r.survival_steps;
+    d.randomized_fell = r.fell;
+    skills.push_back(DescriptorJson(d));
+  }
+  metadata["skills"] = skills;
+  return metadata;
+}
+
+void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const TrainedPolicy& policy,
+                       const Evaluation& evaluation, const Evaluation& randomized, const ExportProvenance& provenance) {
+  SafeTensors file;
+  // One string holds the whole description: safetensors metadata values must be strings.
+  file.metadata["format"] = kSkillLibraryFormat;
+  file.metadata["flsd"] = SkillLibraryMetadata(config, policy, evaluation, randomized, provenance).dump();
+  AddNetwork(file, policy.policy->actor(), policy.normalizer, "policy.", "normalizer.");
+  WriteSafeTensors(path, file);
+}
+
+nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, int iteration) {
+  namespace fs = std::filesystem;
+  const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
+  const TrainedPolicy policy = LoadTrainedPolicy(config, RunCheckpoint(run_dir, iteration));
+  const Evaluation evaluation = EvaluateSkills(config, policy.policy, policy.normalizer, EvaluationOptions{});
+  EvaluationOptions randomize;
+  randomize.randomize = true;
+  const Evaluation randomized = EvaluateSkills(config, policy.policy, policy.normalizer, randomize);
+  const ExportProvenance provenance{run_dir, ReadCommits((fs::path(run_dir) / "commits").string()), FLSD_GIT_COMMIT};
+  WriteSkillLibrary(path, config, policy, evaluation, randomized, provenance);
+  return {{"library", path},
+          {"method", config.method},
+          {"num_skills", config.num_skills},
+          {"iteration", policy.iteration},
+          {"skills_surviving_500_steps", evaluation.survivors},
+          {"skills_surviving_500_steps_randomized", randomized.survivors},
+          {"state_coverage_rate", evaluation.coverage.rate}};
+}
+
+nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path) {
+  namespace fs = std::filesystem;
+  const std::string config_file = (fs::path(run_dir) / "config.yaml").string();
+  const TaskTrainConfig config = LoadTaskTrainConfig(config_file);
+  if (ParseTaskMethod(config.method) != TaskMethod::kSelector) {
+    throw InputError(config_file + ": method is '" + config.method + "'; only a selector run can be exported");
+  }
+  const SkillLibrary base = SkillLibrary::Load(config.library);
+  const TrainedSelector selector =
+      LoadTrainedSelector(config, base.num_skills(), (fs::path(run_dir) / "checkpoint.pt").string());
+  if (selector.library_fingerprint != base.fingerprint()) {
+    throw InputError(run_dir + ": the selector was trained over a library with fingerprint " +
+                     selector.library_fingerprint + ", but " + config.library + " now has " + base.fingerprint());
+  }
+
+  SafeTensors file = ReadSafeTensors(config.library);
+  nlohmann::json metadata = base.metadata();
+  AddNetwork(file, selector.policy->actor(), selector.normalizer, "selector.", "selector.normalizer.");
+  const VelocityCommandConfig& commands = config.task.commands;
+  metadata["selector"] = {
+      {"hidden", config.policy.actor_hidden},
+      {"activation", "elu"},
+      {"layers", config.policy.actor_hidden.size() + 1},
+      {"decision_interval", config.decision_interval},
+      {"observation",
+       {{"motion", kMotionObsSize},
+        {"command", kCommandSize},
+        {"command_scale", {kMotionObsLayout[0].scale, kMotionObsLayout[0].scale, kMotionObsLayout[1].scale}}}},
+      {"commands",
+       {{"vx", {commands.vx.lo, commands.vx.hi}},
+        {"vy", {commands.vy.lo, commands.vy.hi}},
+        {"wz", {commands.wz.lo, commands.wz.hi}},
+        {"min_planar_speed", commands.min_planar_speed}}},
+      {"training",
+       {{"iteration", selector.iteration},
+        {"env_steps", selector.env_steps},
+        {"config", ToYamlString(config)},
+        {"run", run_dir},
+        {"commits", ReadCommits((fs::path(run_dir) / "commits").string())},
+        {"export_commit", FLSD_GIT_COMMIT}}},
+  };
+  // Evaluated through the file as skilld will read it: written once without the evaluation,
+  // loaded and run with Eigen, then written with it.
+  const std::string unevaluated = path + ".unevaluated";
+  file.metadata["flsd"] = metadata.dump();
+  WriteSafeTensors(unevaluated, file);
+  TrackingEvaluation tracking;
+  try {
+    tracking = EvaluateTracking(SkillLibrary::Load(unevaluated), config.env, 10.0, 2.0, config.seed);
+  } catch (...) {
+    fs::remove(unevaluated);
+    throw;
+  }
+  fs::remove(unevaluated);
+  metadata["selector"]["evaluation"] = TrackingJson(tracking);
+  file.metadata["flsd"] = metadata.dump();
+  WriteSafeTensors(path, file);
+  return {{"library", path}, {"base_library", config.library}, {"iteration", selector.iteration},
+          {"tracking", TrackingJson(tracking)}};
+}
+
+}  // namespace flsd

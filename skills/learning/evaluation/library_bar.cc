@@ -1,0 +1,79 @@
+#include "skills/learning/evaluation/library_bar.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace flsd {
+namespace {
+
+// How fast `s` goes `direction` within the limits' other conditions; negative where it does not.
+double SpeedToward(const SkillSummary& s, Direction direction, const LibraryBarLimits& limits) {
+  const double vx = s.mean_linear_velocity[0], vy = s.mean_linear_velocity[1], wz = s.mean_angular_velocity[2];
+  const bool straight = std::abs(wz) <= limits.straight_yaw_rate;
+  const bool in_place = std::hypot(vx, vy) <= limits.turn_travel;
+  switch (direction) {
+    case Direction::kForward: return straight ? vx : -1.0;
+    case Direction::kBackward: return straight ? -vx : -1.0;
+    case Direction::kLeft: return straight ? vy : -1.0;
+    case Direction::kRight: return straight ? -vy : -1.0;
+    case Direction::kTurnLeft: return in_place ? wz : -1.0;
+    case Direction::kTurnRight: return in_place ? -wz : -1.0;
+  }
+  return -1.0;
+}
+
+double Threshold(Direction direction, const LibraryBarLimits& limits) {
+  return direction == Direction::kTurnLeft || direction == Direction::kTurnRight ? limits.turn_rate
+                                                                                  : limits.straight_speed;
+}
+
+}  // namespace
+
+LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& limits) {
+  LibraryBar bar;
+  bar.num_skills = static_cast<int>(evaluation.skills.size());
+  bar.skill.fill(-1);
+  bar.pooled_high_frequency_ratio = evaluation.high_frequency.pooled_ratio;
+  bar.lowest_mover_height = INFINITY;
+  for (const SkillSummary& s : evaluation.skills) {
+    if (s.fell || !Survives(s.survival_steps)) continue;
+    ++bar.survivors;
+    for (int d = 0; d < kNumDirections; ++d) {
+      const double speed = SpeedToward(s, static_cast<Direction>(d), limits);
+      if (speed >= Threshold(static_cast<Direction>(d), limits) && speed > bar.speed[d]) {
+        bar.skill[d] = s.skill;
+        bar.speed[d] = speed;
+      }
+    }
+    const bool mover = std::hypot(s.mean_linear_velocity[0], s.mean_linear_velocity[1]) >= limits.mover_speed ||
+                       std::abs(s.mean_angular_velocity[2]) >= limits.mover_turn_rate;
+    if (!mover) continue;
+    ++bar.movers;
+    bar.lowest_mover_height = std::min(bar.lowest_mover_height, s.mean_base_height);
+    bar.fastest_mover_slip = std::max(bar.fastest_mover_slip, s.mean_stance_foot_speed);
+  }
+  if (bar.movers == 0) bar.lowest_mover_height = 0.0;
+  bar.met = bar.survivors == bar.num_skills &&
+            std::none_of(bar.skill.begin(), bar.skill.end(), [](int k) { return k < 0; }) &&
+            bar.lowest_mover_height >= limits.mover_height && bar.fastest_mover_slip <= limits.mover_slip &&
+            bar.pooled_high_frequency_ratio <= limits.high_frequency_ratio;
+  return bar;
+}
+
+nlohmann::json LibraryBarJson(const LibraryBar& bar) {
+  nlohmann::json directions;
+  for (int d = 0; d < kNumDirections; ++d) {
+    directions[kDirectionNames[d]] = {{"skill", bar.skill[d] >= 0 ? nlohmann::json(bar.skill[d]) : nlohmann::json()},
+                                      {"speed", bar.speed[d]}};
+  }
+  return {{"met", bar.met},
+          {"survivors", bar.survivors},
+          {"num_skills", bar.num_skills},
+          {"directions", directions},
+          {"movers", bar.movers},
+          {"lowest_mover_height", bar.lowest_mover_height},
+          {"fastest_mover_slip", bar.fastest_mover_slip},
+          {"pooled_high_frequency_ratio", bar.pooled_high_frequency_ratio}};
+}
+
+}  // namespace flsd

@@ -1,0 +1,121 @@
+#include "skills/learning/evaluation/tracking_eval.h"
+
+#include <cmath>
+#include <set>
+
+#include <yaml-cpp/yaml.h>
+
+#include "robot/observation.h"
+#include "sim/env.h"
+
+namespace flsd {
+
+std::vector<TrackingCase> StandardTrackingCases() {
+  return {{"stand", {0.0, 0.0, 0.0}},     {"forward", {0.5, 0.0, 0.0}},    {"backward", {-0.5, 0.0, 0.0}},
+          {"left", {0.0, 0.5, 0.0}},      {"right", {0.0, -0.5, 0.0}},     {"turn_left", {0.0, 0.0, 1.0}},
+          {"turn_right", {0.0, 0.0, -1.0}}, {"forward_turning", {0.5, 0.0, 0.5}}};
+}
+
+TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env_config, double seconds,
+                                    double settle_seconds, uint64_t seed, SelectorKind selector) {
+  EnvConfig config = env_config;
+  config.randomization.DisableAll();
+  config.reset.standing_fraction = 1.0;  // from a stand, as skilld starts a velocity
+  config.action_filter_hz = library.action_filter_hz();  // as skilld runs the skills
+  config.action_filter_order = library.action_filter_order();
+  const int steps = static_cast<int>(std::lround(seconds / a1::kControlDt));
+  const int settle = static_cast<int>(std::lround(settle_seconds / a1::kControlDt));
+  config.episode_steps = steps + 1;
+  const MjModelPtr model = LoadMjModel(config.model);
+  HierarchicalPolicy policy(library, selector);
+
+  TrackingEvaluation out;
+  out.selector = selector;
+  out.seconds = seconds;
+  out.settle_seconds = settle_seconds;
+  double lin2 = 0.0, ang2 = 0.0;
+  for (const TrackingCase& c : StandardTrackingCases()) {
+    Env env(*model, config, seed);
+    env.Reset();
+    policy.Reset();
+    TrackingResult r;
+    r.tracked = {c.name, policy.Clip(c.command.data())};
+    std::array<float, kMotionObsSize> motion{};
+    std::array<float, kActionSize> previous{}, action{};
+    std::set<int> used;
+    int last_skill = -1, switches = 0, measured = 0;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int t = 0; t < steps; ++t) {
+      BuildMotionObservation(env.state(), motion.data());
+      const int skill = policy.Act(motion.data(), r.tracked.command.data(), previous.data(), action.data());
+      used.insert(skill);
+      switches += last_skill >= 0 && skill != last_skill;
+      last_skill = skill;
+      previous = action;
+      const Termination ending = env.Step(action.data());
+      ++r.steps;
+      if (t >= settle) {
+        const RobotState& s = env.state();
+        sum += Eigen::Vector3d(s.base_linear_velocity.x(), s.base_linear_velocity.y(), s.base_angular_velocity.z());
+        ++measured;
+      }
+      if (IsFailure(ending)) {
+        r.fell = true;
+        break;
+      }
+    }
+    if (measured > 0) sum /= measured;
+    r.achieved = {sum.x(), sum.y(), sum.z()};
+    // Against what was asked: a selector that clips a command it cannot follow still misses it.
+    r.lin_error = std::hypot(sum.x() - c.command[0], sum.y() - c.command[1]);
+    r.ang_error = std::abs(sum.z() - c.command[2]);
+    r.skills_used = static_cast<int>(used.size());
+    r.switches_per_s = switches / (r.steps * a1::kControlDt);
+    lin2 += r.lin_error * r.lin_error;
+    ang2 += r.ang_error * r.ang_error;
+    out.falls += r.fell;
+    out.cases.push_back(r);
+  }
+  out.rms_lin_error = std::sqrt(lin2 / out.cases.size());
+  out.rms_ang_error = std::sqrt(ang2 / out.cases.size());
+  return out;
+}
+
+nlohmann::json TrackingJson(const TrackingEvaluation& e) {
+  nlohmann::json cases = nlohmann::json::array();
+  for (const TrackingResult& r : e.cases) {
+    cases.push_back({{"name", r.tracked.name},
+                     {"command", r.tracked.command},
+                     {"achieved", r.achieved},
+                     {"lin_error", r.lin_error},
+                     {"ang_error", r.ang_error},
+                     {"steps", r.steps},
+                     {"fell", r.fell},
+                     {"skills_used", r.skills_used},
+                     {"switches_per_s", r.switches_per_s}});
+  }
+  return {{"selector", ToString(e.selector)},
+          {"seconds", e.seconds},           {"settle_seconds", e.settle_seconds}, {"rms_lin_error", e.rms_lin_error},
+          {"rms_ang_error", e.rms_ang_error}, {"falls", e.falls},                {"cases", cases}};
+}
+
+EnvConfig TrainingEnvOf(const SkillLibrary& library) {
+  const nlohmann::json& training = library.metadata().at("training");
+  const YAML::Node config = YAML::Load(training.at("config").get<std::string>());
+  EnvConfig env;
+  if (config["env"]) ReadConfig(config["env"], library.path() + ": training config: env.", env);
+  return env;
+}
+
+nlohmann::json CompareSelectors(const SkillLibrary& library, double seconds, double settle_seconds, uint64_t seed) {
+  const EnvConfig env = TrainingEnvOf(library);
+  nlohmann::json out = {{"library", library.path()}};
+  out["learned"] = library.selector()
+                       ? TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, SelectorKind::kLearned))
+                       : nlohmann::json();
+  out["nearest_skill"] =
+      TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, SelectorKind::kNearestSkill));
+  return out;
+}
+
+}  // namespace flsd

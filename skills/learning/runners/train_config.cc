@@ -1,0 +1,47 @@
+#include "skills/learning/runners/train_config.h"
+
+namespace flsd {
+
+Method ParseMethod(const std::string& name) {
+  if (name == "flsd") return Method::kFlsd;
+  if (name == "diayn") return Method::kDiayn;
+  throw InputError("method: expected 'flsd' or 'diayn', got '" + name + "'");
+}
+
+const char* ToString(Method m) { return m == Method::kFlsd ? "flsd" : "diayn"; }
+
+void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
+  try {
+    ParseMethod(config.method);
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  if (config.pae.kernel_size % 2 == 0) {
+    throw InputError(where + ": pae.kernel_size: expected an odd number, got " +
+                     std::to_string(config.pae.kernel_size));
+  }
+  if (config.symmetry.enabled) {
+    try {
+      mirror::SkillPairing(config.num_skills, config.symmetry.self_paired_skills);
+    } catch (const InputError& e) {
+      throw InputError(where + ": symmetry." + e.what());
+    }
+  }
+  if (config.skill_switch.enabled() && config.skill_switch.interval_s.lo < a1::kControlDt) {
+    throw InputError(where + ": skill_switch.interval_s: expected at least one control step (0.02 s), got " +
+                     std::to_string(config.skill_switch.interval_s.lo));
+  }
+  if (config.window % 2 == 0) {
+    throw InputError(where + ": window: expected an odd number of frames (the paper's H = 51), got " +
+                     std::to_string(config.window));
+  }
+}
+
+TrainConfig LoadTrainConfig(const std::string& path, const std::vector<std::string>& overrides) {
+  TrainConfig config;
+  ReadConfig(LoadConfigFile(path, overrides), path + ":", config);
+  ValidateTrainConfig(config, path);
+  return config;
+}
+
+}  // namespace flsd

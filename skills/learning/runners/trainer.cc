@@ -1,0 +1,493 @@
+#include "skills/learning/runners/trainer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/check.h"
+#include "skills/learning/runners/checkpoint_io.h"
+#include "robot/observation.h"
+
+namespace flsd {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// The policy normaliser covers o^m and the previous action; the one-hot skill stays as it is.
+constexpr int kNormalizedObs = kMotionObsSize + kActionSize;
+// Windows pass through the PAE for rewards in chunks of this many (measured: 512 runs 16 % faster
+// than 4096, whose activations fall out of cache).
+constexpr int64_t kRewardChunk = 512;
+
+int DiscriminatorInputs(Method method, const PaeConfig& pae) {
+  return 2 + (method == Method::kFlsd ? 2 * pae.latent_channels : kMotionObsSize);
+}
+
+// Checks the config, seeds libtorch's generator and passes the config on: used to initialise the
+// first member, so that the seed is set before any network draws its initial weights.
+const TrainConfig& CheckedAndSeeded(const TrainConfig& config) {
+  ValidateTrainConfig(config, "training config");
+  torch::manual_seed(config.seed);
+  return config;
+}
+
+bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
+
+constexpr uint64_t kSkillStream = 1000003;  // the skill draws' seed offset from the run's seed
+
+std::vector<torch::Tensor> Parameters(const torch::optim::Optimizer& optimizer) {
+  std::vector<torch::Tensor> all;
+  for (const auto& group : optimizer.param_groups()) all.insert(all.end(), group.params().begin(), group.params().end());
+  return all;
+}
+
+}  // namespace
+
+double TrainEpochs(torch::optim::Optimizer& optimizer, const Communicator& comm, const torch::Tensor& samples,
+                   int epochs, int64_t minibatch, const std::function<torch::Tensor(const torch::Tensor&)>& loss_of) {
+  const int64_t n = samples.size(0);
+  const int64_t share = std::max<int64_t>(1, minibatch / comm.size());
+  const std::vector<torch::Tensor> parameters = Parameters(optimizer);
+  double loss_sum = 0.0;
+  int updates = 0;
+  for (int epoch = 0; epoch < epochs; ++epoch) {
+    const torch::Tensor order = samples.index_select(0, torch::randperm(n, torch::kLong));
+    for (int64_t begin = 0; begin < n; begin += share) {
+      const torch::Tensor loss = loss_of(order.slice(0, begin, std::min(n, begin + share)));
+      if (comm.Any(!Finite(loss))) return NAN;
+      optimizer.zero_grad();
+      loss.backward();
+      comm.AverageGradients(parameters);
+      optimizer.step();
+      loss_sum += loss.item<double>();
+      ++updates;
+    }
+  }
+  return updates > 0 ? comm.Sum(loss_sum / updates) / comm.size() : 0.0;
+}
+
+Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
+    : config_(CheckedAndSeeded(config)),
+      comm_(comm),
+      method_(ParseMethod(config.method)),
+      num_envs_(LocalEnvCount(config.num_envs, comm)),
+      steps_(config.steps_per_env),
+      policy_obs_size_(PolicyObservationSize(config.num_skills)),
+      critic_obs_size_(PolicyObservationSize(config.num_skills) + 2),
+      vec_(config.env, num_envs_, config.seed, ResolveThreadCount(config.num_threads), comm.rank() * num_envs_),
+      policy_(policy_obs_size_, critic_obs_size_, kActionSize, config.policy),
+      pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
+      discriminator_(DiscriminatorInputs(method_, config.pae), config.num_skills, config.discriminator),
+      learner_(policy_.ptr(), kNormalizedObs, config.ppo, config.seed, comm),
+      rollout_(learner_.rollout()),
+      pairing_(SkillPairingOf(config.num_skills, config.symmetry)),
+      constraint_terminations_(config.constraint_terminations),
+      pae_optimizer_(pae_->parameters(),
+                     torch::optim::AdamWOptions(config.pae.learning_rate).weight_decay(config.pae.weight_decay)),
+      discriminator_optimizer_(discriminator_->parameters(),
+                               torch::optim::AdamOptions(config.discriminator.learning_rate)) {
+  const int n = num_envs_, t = steps_;
+  skill_.resize(n);
+  previous_action_.assign(n * kActionSize, 0.0f);
+  previous_joint_velocity_.assign(n * a1::kNumJoints, 0.0);
+  episode_length_.assign(n, 0);
+  steps_to_switch_.assign(n, 0);
+  skill_origin_.assign(n, {0.0, 0.0, 0.0});
+  critic_position_.assign(2 * n, 0.0f);
+  steps_since_switch_.assign(n, config.skill_switch.reward_mask_steps);
+  ended_.assign(n, 0);
+  ended_length_sum_.assign(n, 0);
+  ended_falls_.assign(n, 0);
+  // Every rank drew the same initial parameters from the seed; from here each draws its own
+  // actions and minibatches.
+  SeedRankStreams(config.seed, comm);
+  for (int i = 0; i < n; ++i) {
+    skill_rng_.emplace_back(StreamSeed(config.seed + kSkillStream, comm.rank() * n + i));
+    DrawSkill(i);
+    history_.emplace_back(config.window);
+    history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
+  }
+  learner_.AllocateRollout({t, n, policy_obs_size_, critic_obs_size_, kActionSize, 2 * kActionSize});
+  const auto f = torch::kFloat32;
+  raw_obs_ = torch::zeros({n, policy_obs_size_}, f);
+  if (config.symmetry.enabled) raw_rollout_obs_ = torch::zeros({t, n, policy_obs_size_}, f);
+  switching_ = torch::zeros({t, n}, f);
+  if (config.env.constraints.enabled) violations_ = torch::zeros({t, n, kNumConstraints}, f);
+  if (method_ == Method::kFlsd) windows_ = torch::zeros({t, n, kMotionObsSize, config.window}, f);
+  next_motion_ = torch::zeros({t, n, kMotionObsSize}, f);
+  next_position_ = torch::zeros({t, n, 2}, f);
+  skills_ = torch::zeros({t, n}, torch::kLong);
+  penalties_ = torch::zeros({t, n}, f);
+  for (int i = 0; i < n; ++i) {
+    std::copy(vec_.env(i).state().joint_velocity.begin(), vec_.env(i).state().joint_velocity.end(),
+              &previous_joint_velocity_[i * a1::kNumJoints]);
+  }
+}
+
+void Trainer::DrawSkill(int i) {
+  Rng& rng = skill_rng_[i];
+  skill_[i] = std::uniform_int_distribution<int>(0, config_.num_skills - 1)(rng);
+  const SkillSwitchConfig& s = config_.skill_switch;
+  if (s.enabled()) {
+    const double seconds = Uniform(rng, s.interval_s.lo, s.interval_s.hi);
+    steps_to_switch_[i] = std::max(1, static_cast<int>(std::lround(seconds / a1::kControlDt)));
+  }
+}
+
+torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
+  float* raw = raw_obs_.data_ptr<float>();
+  for (int i = 0; i < num_envs_; ++i) {
+    BuildPolicyObservation(vec_.motion_obs() + i * kMotionObsSize, &previous_action_[i * kActionSize],
+                           skill_[i], config_.num_skills, raw + i * policy_obs_size_);
+  }
+  if (update_normalizer) learner_.UpdateNormalizer(raw_obs_.slice(1, 0, kNormalizedObs));
+  return NormalizeLeadingColumns(learner_.normalizer(), raw_obs_);
+}
+
+void Trainer::SkillFramePosition(int i, const float* world, float* out) const {
+  const auto& [x0, y0, yaw0] = skill_origin_[i];
+  const double dx = world[0] - x0, dy = world[1] - y0, c = std::cos(yaw0), s = std::sin(yaw0);
+  out[0] = static_cast<float>(c * dx + s * dy);
+  out[1] = static_cast<float>(-s * dx + c * dy);
+}
+
+torch::Tensor Trainer::CriticObservations(const torch::Tensor& obs) {
+  for (int i = 0; i < num_envs_; ++i) SkillFramePosition(i, vec_.position() + 3 * i, &critic_position_[2 * i]);
+  const torch::Tensor xy = torch::from_blob(critic_position_.data(), {num_envs_, 2}) * config_.critic_position_scale;
+  return torch::cat({obs, xy}, 1);
+}
+
+void Trainer::CollectRollout(IterationStats& stats) {
+  torch::NoGradGuard no_grad;
+  std::fill(ended_.begin(), ended_.end(), 0);
+  std::fill(ended_length_sum_.begin(), ended_length_sum_.end(), 0);
+  std::fill(ended_falls_.begin(), ended_falls_.end(), 0);
+  for (int t = 0; t < steps_; ++t) {
+    Clock::time_point start = Clock::now();
+    const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/true);
+    const torch::Tensor critic_obs = CriticObservations(obs);
+    const torch::Tensor distribution = policy_->Distribution(obs);
+    const torch::Tensor action = policy_->Sample(distribution);
+    rollout_.obs[t].copy_(obs);
+    if (raw_rollout_obs_.defined()) raw_rollout_obs_[t].copy_(raw_obs_);
+    float* switching = switching_[t].data_ptr<float>();
+    for (int i = 0; i < num_envs_; ++i) switching[i] = steps_since_switch_[i] < config_.skill_switch.reward_mask_steps;
+    rollout_.critic_obs[t].copy_(critic_obs);
+    rollout_.actions[t].copy_(action);
+    rollout_.distributions[t].copy_(distribution);
+    rollout_.log_probs[t].copy_(policy_->LogProb(distribution, action));
+    rollout_.values[t].copy_(policy_->Value(critic_obs));
+    std::copy(skill_.begin(), skill_.end(), skills_[t].data_ptr<int64_t>());
+    stats.seconds_policy += Since(start);
+
+    start = Clock::now();
+    vec_.Step(action.data_ptr<float>());
+    stats.seconds_physics += Since(start);
+
+    start = Clock::now();
+    AfterStep(t, action.data_ptr<float>());
+    stats.seconds_bookkeeping += Since(start);
+  }
+  const Clock::time_point start = Clock::now();
+  const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/false);
+  last_values_ = policy_->Value(CriticObservations(obs));
+  stats.seconds_policy += Since(start);
+
+  double ended[3] = {0.0, 0.0, 0.0};  // episodes, their lengths, falls: over all ranks
+  for (int i = 0; i < num_envs_; ++i) {
+    ended[0] += ended_[i];
+    ended[1] += ended_length_sum_[i];
+    ended[2] += ended_falls_[i];
+  }
+  comm_.Sum(ended, 3);
+  stats.episodes_ended = static_cast<int>(ended[0]);
+  stats.mean_episode_length = ended[0] > 0 ? ended[1] / ended[0] : 0.0;
+  stats.fall_fraction = ended[0] > 0 ? ended[2] / ended[0] : 0.0;
+}
+
+void Trainer::AfterStep(int t, const float* actions) {
+  const int n = num_envs_;
+  const int window_floats = kMotionObsSize * config_.window;
+  float* windows = method_ == Method::kFlsd ? windows_[t].data_ptr<float>() : nullptr;
+  float* next_motion = next_motion_[t].data_ptr<float>();
+  float* next_position = next_position_[t].data_ptr<float>();
+  float* dones = rollout_.dones[t].data_ptr<float>();
+  float* timeouts = rollout_.timeouts[t].data_ptr<float>();
+  float* penalties = penalties_[t].data_ptr<float>();
+  float* violations = violations_.defined() ? violations_[t].data_ptr<float>() : nullptr;
+  const RegularizationConfig& regularization = config_.regularization;
+  vec_.pool().ParallelFor(n, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Termination ending = vec_.termination()[i];
+      const bool done = ending != Termination::kNone;
+      // o^m_{t+1} and q_{t+1}: the final state of an episode that just ended, not the reset one.
+      const float* next = (done ? vec_.terminal_motion_obs() : vec_.motion_obs()) + i * kMotionObsSize;
+      const float* position = (done ? vec_.terminal_position() : vec_.position()) + i * 3;
+      if (windows != nullptr) history_[i].WriteWindow(next, windows + i * window_floats);
+      std::copy(next, next + kMotionObsSize, next_motion + i * kMotionObsSize);
+      SkillFramePosition(i, position, next_position + 2 * i);
+      dones[i] = done ? 1.0f : 0.0f;
+      if (violations != nullptr) {
+        const float* v = vec_.violations() + i * kNumConstraints;
+        std::copy(v, v + kNumConstraints, violations + i * kNumConstraints);
+      }
+      timeouts[i] = ending == Termination::kTimeOut ? 1.0f : 0.0f;
+      ++episode_length_[i];
+      float* previous = &previous_action_[i * kActionSize];
+      double* previous_qd = &previous_joint_velocity_[i * a1::kNumJoints];
+      if (regularization.enabled()) {
+        const a1::JointArray<double>& qd = vec_.stepped_state(i).joint_velocity;
+        double action_rate = 0.0, dof_acc = 0.0;
+        for (int j = 0; j < a1::kNumJoints; ++j) {
+          action_rate += std::pow(actions[i * kActionSize + j] - previous[j], 2);
+          dof_acc += std::pow((qd[j] - previous_qd[j]) / a1::kControlDt, 2);
+        }
+        penalties[i] = static_cast<float>(
+            (regularization.action_rate * action_rate + regularization.dof_acc * dof_acc) * a1::kControlDt);
+      }
+      const a1::JointArray<double>& qd_now = vec_.env(i).state().joint_velocity;  // after any reset
+      std::copy(qd_now.begin(), qd_now.end(), previous_qd);
+      if (done) {
+        ++ended_[i];
+        ended_length_sum_[i] += episode_length_[i];
+        ended_falls_[i] += IsFailure(ending);
+        episode_length_[i] = 0;
+        // A new episode: a new skill drawn from the uniform prior, a fresh motion history.
+        DrawSkill(i);
+        steps_since_switch_[i] = config_.skill_switch.reward_mask_steps;
+        skill_origin_[i] = {0.0, 0.0, 0.0};  // every episode starts at the origin facing +x
+        std::fill(previous, previous + kActionSize, 0.0f);
+        history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
+      } else {
+        history_[i].Push(next);
+        std::copy(actions + i * kActionSize, actions + (i + 1) * kActionSize, previous);
+        ++steps_since_switch_[i];
+        // Within the episode, the next skill takes over from this one's motion.
+        if (config_.skill_switch.enabled() && --steps_to_switch_[i] <= 0) {
+          const int before = skill_[i];
+          DrawSkill(i);
+          if (skill_[i] != before) {
+            // The new skill's q starts from where, and the way, the robot now is.
+            const RobotState& s = vec_.env(i).state();
+            skill_origin_[i] = {s.base_position.x(), s.base_position.y(), s.Yaw()};
+            steps_since_switch_[i] = 0;
+          }
+        }
+      }
+    }
+  });
+}
+
+// The phase manifold of each window [B, 33, H], encoded in chunks (FLSD's o^d features).
+torch::Tensor Trainer::Manifold(const torch::Tensor& windows) {
+  const int64_t count = windows.size(0);
+  std::vector<torch::Tensor> parts;
+  for (int64_t begin = 0; begin < count; begin += kRewardChunk) {
+    parts.push_back(pae_->Manifold(windows.slice(0, begin, std::min(count, begin + kRewardChunk))));
+  }
+  return torch::cat(parts, 0);
+}
+
+void Trainer::ComputeRewards(IterationStats& stats) {
+  torch::NoGradGuard no_grad;
+  const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
+  const torch::Tensor positions = next_position_.view({count, 2});
+  // Eq. 13: FLSD's o^d = [q, P], P the phase manifold of the window ending at t + 1; DIAYN's
+  // o^d = [q, o^m].
+  const torch::Tensor features = method_ == Method::kFlsd
+                                     ? Manifold(windows_.view({count, kMotionObsSize, config_.window}))
+                                     : next_motion_.view({count, kMotionObsSize});
+  const torch::Tensor observations = torch::cat({positions, features}, 1);
+  const torch::Tensor skills = skills_.view({count});
+  const torch::Tensor log_probs = discriminator_->LogProbs(observations);
+  const torch::Tensor reward = IntrinsicReward(log_probs, skills);
+  // Means over all ranks (each holds as many transitions).
+  double means[3] = {reward.mean().item<double>(),
+                     (log_probs.argmax(1) == skills).to(torch::kFloat32).mean().item<double>(),
+                     penalties_.mean().item<double>()};
+  comm_.Sum(means, 3);
+  stats.intrinsic_reward = means[0] / comm_.size();
+  stats.discriminator_accuracy = means[1] / comm_.size();
+  stats.regularization = means[2] / comm_.size();
+  // As legged_gym clips its total: penalties included, so that no step pays less than ending.
+  const torch::Tensor total = config_.reward_scale * reward + penalties_.view({count});
+  torch::Tensor rewards = (config_.only_positive_rewards ? total.clamp_min(0.0) : total).view({steps_, num_envs_});
+  // Just after a skill switch the window mixes two skills' motions: no reward for it.
+  rewards = rewards * (1.0 - switching_);
+  if (violations_.defined()) {
+    // CaT: a violation ends the episode with its probability, which scales the step's reward and
+    // what the step bootstraps from its successor.
+    const torch::Tensor p = constraint_terminations_.Probabilities(violations_, learner_.iteration(), comm_, stats.constraints);
+    rewards = rewards * (1.0 - p);
+    rollout_.dones.copy_(torch::max(rollout_.dones, p));
+  }
+  rollout_.rewards.copy_(rewards);
+  DiscriminatorSamples(observations, positions);
+}
+
+torch::Tensor Trainer::MirroredFeatures(int64_t count) {
+  const mirror::SignedPermutation motion = mirror::MotionObservation();
+  if (method_ == Method::kFlsd) {
+    return Manifold(MirrorAlong(motion, windows_.view({count, kMotionObsSize, config_.window}), 1));
+  }
+  return MirrorAlong(motion, next_motion_.view({count, kMotionObsSize}), 1);
+}
+
+void Trainer::DiscriminatorSamples(const torch::Tensor& observations, const torch::Tensor& positions) {
+  const int64_t count = observations.size(0);
+  const torch::Tensor skills = skills_.view({count});
+  const torch::Tensor kept = (switching_.view({count}) == 0).nonzero().squeeze(1);
+  discriminator_obs_ = observations.index_select(0, kept);
+  discriminator_labels_ = skills.index_select(0, kept);
+  if (!config_.symmetry.enabled) return;
+  // The mirror image of skill k's sample is a sample of k's pair.
+  const torch::Tensor mirrored =
+      torch::cat({MirrorAlong(mirror::PlanarPosition(), positions, 1), MirroredFeatures(count)}, 1);
+  discriminator_obs_ = torch::cat({discriminator_obs_, mirrored.index_select(0, kept)}, 0);
+  discriminator_labels_ =
+      torch::cat({discriminator_labels_, PairIndex(pairing_).index_select(0, skills).index_select(0, kept)}, 0);
+}
+
+MirroredSamples Trainer::MirroredRollout() const {
+  torch::NoGradGuard no_grad;
+  const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
+  MirroredSamples m;
+  const torch::Tensor raw = raw_rollout_obs_.view({count, policy_obs_size_});
+  m.obs = NormalizeLeadingColumns(learner_.normalizer(), MirrorAlong(mirror::PolicyObservation(pairing_), raw, 1));
+  const torch::Tensor position = rollout_.critic_obs.view({count, critic_obs_size_}).slice(1, policy_obs_size_);
+  m.critic_obs = torch::cat({m.obs, MirrorAlong(mirror::PlanarPosition(), position, 1)}, 1);
+  m.actions = MirrorAlong(mirror::Joints(), rollout_.actions.view({count, kActionSize}), 1);
+  return m;
+}
+
+double Trainer::UpdatePae() {
+  const PaeConfig& c = config_.pae;
+  const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
+  const int64_t sampled = std::max<int64_t>(1, std::llround(c.sample_fraction * count));
+  const torch::Tensor windows = windows_.view({count, kMotionObsSize, config_.window});
+  const torch::Tensor chosen = torch::randperm(count, torch::kLong).slice(0, 0, sampled);
+  const mirror::SignedPermutation motion = mirror::MotionObservation();
+  return TrainEpochs(pae_optimizer_, comm_, chosen, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
+    torch::Tensor x = windows.index_select(0, idx);
+    // With symmetry, half of the windows are mirror images, so that the manifold of a mirrored
+    // window (the discriminator's mirrored samples) is in the PAE's training distribution.
+    if (config_.symmetry.enabled) {
+      const int64_t half = x.size(0) / 2;
+      x = torch::cat({x.slice(0, 0, half), MirrorAlong(motion, x.slice(0, half), 1)}, 0);
+    }
+    return pae_->Loss(x, pae_->Forward(x));  // Eq. 3
+  });
+}
+
+double Trainer::UpdateDiscriminator() {
+  const DiscriminatorConfig& c = config_.discriminator;
+  const torch::Tensor all = torch::arange(discriminator_obs_.size(0), torch::kLong);
+  return TrainEpochs(discriminator_optimizer_, comm_, all, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
+    // Eq. 12 on (o^d, k) pairs of this rollout.
+    return DiscriminatorLoss(discriminator_->LogProbs(Blurred(discriminator_obs_.index_select(0, idx), c)),
+                             discriminator_labels_.index_select(0, idx));
+  });
+}
+
+IterationStats Trainer::RunIteration() {
+  IterationStats stats;
+  const Clock::time_point start = Clock::now();
+  CollectRollout(stats);
+
+  Clock::time_point phase = Clock::now();
+  ComputeRewards(stats);
+  stats.seconds_reward = Since(phase);
+
+  phase = Clock::now();
+  if (config_.symmetry.enabled) {
+    const MirroredSamples mirrored = MirroredRollout();
+    stats.ppo = learner_.Update(last_values_, &mirrored);
+  } else {
+    stats.ppo = learner_.Update(last_values_);
+  }
+  stats.seconds_ppo = Since(phase);
+
+  phase = Clock::now();
+  if (method_ == Method::kFlsd) stats.pae_loss = UpdatePae();
+  stats.seconds_pae = Since(phase);
+
+  phase = Clock::now();
+  stats.discriminator_loss = UpdateDiscriminator();
+  stats.seconds_discriminator = Since(phase);
+
+  const long job_steps = static_cast<long>(steps_) * num_envs_ * comm_.size();
+  learner_.CountIteration(job_steps);
+  stats.iteration = learner_.iteration();
+  stats.env_steps = learner_.env_steps();
+  stats.action_std = policy_->Std().mean().item<double>();
+  stats.collectives = comm_.TakeTally();
+  stats.seconds_total = Since(start);
+  stats.steps_per_s = job_steps / stats.seconds_total;
+  stats.finite = stats.ppo.finite && std::isfinite(stats.pae_loss) && std::isfinite(stats.discriminator_loss);
+  return stats;
+}
+
+// ---- checkpoints ----
+
+void Trainer::SaveCheckpoint(const std::string& path) const {
+  torch::serialize::OutputArchive archive;
+  learner_.Write(archive);
+  WriteModule(archive, "pae", *pae_);
+  WriteModule(archive, "discriminator", *discriminator_);
+  WriteOptimizer(archive, "pae_optimizer", pae_optimizer_);
+  WriteOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
+  archive.write("config", c10::IValue(ToYamlString(config_)));
+  archive.write("skill_rng", c10::IValue(RngState(skill_rng_)));
+  archive.write("constraint_scales", c10::IValue(constraint_terminations_.State()));
+  WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
+}
+
+TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& checkpoint) {
+  torch::serialize::InputArchive archive = OpenCheckpoint(checkpoint);
+  TrainedPolicy out;
+  const int obs = PolicyObservationSize(config.num_skills);
+  out.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
+  out.normalizer = RunningNormalizer(kNormalizedObs);
+  try {
+    ReadPolicyParts(archive, *out.policy, *out.normalizer, out.iteration, out.env_steps);
+  } catch (const c10::Error& e) {
+    MismatchedCheckpoint(checkpoint, e);
+  } catch (const InputError& e) {
+    throw InputError(checkpoint + ": does not fit this training config: " + e.what());
+  }
+  return out;
+}
+
+void Trainer::LoadCheckpoint(const std::string& path) {
+  torch::serialize::InputArchive archive = OpenCheckpoint(path);
+  try {
+    const bool streams_restored = learner_.Read(archive);
+    ReadModule(archive, "pae", *pae_);
+    ReadModule(archive, "discriminator", *discriminator_);
+    ReadOptimizer(archive, "pae_optimizer", pae_optimizer_);
+    ReadOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
+    c10::IValue scales{std::string()};  // checkpoints from before constraints as terminations
+    if (archive.try_read("constraint_scales", scales) && !scales.toStringRef().empty()) {
+      constraint_terminations_.Restore(scales.toStringRef(), path);
+    }
+    if (streams_restored) {
+      RestoreRngState(ReadString(archive, "skill_rng"), skill_rng_, "skill");
+    } else {
+      const int first = comm_.rank() * num_envs_;
+      for (int i = 0; i < num_envs_; ++i) {
+        skill_rng_[i].seed(StreamSeed(StreamSeed(config_.seed + kSkillStream, first + i), learner_.iteration()));
+      }
+    }
+  } catch (const c10::Error& e) {
+    MismatchedCheckpoint(path, e);
+  } catch (const InputError& e) {
+    throw InputError(path + ": does not fit this training config: " + e.what());
+  }
+}
+
+}  // namespace flsd

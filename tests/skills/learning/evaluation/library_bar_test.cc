@@ -1,0 +1,68 @@
+// The shipping bar judged from known skill summaries: the fastest qualifying skill per
+// direction, movers' height and slip, survival, and which failure keeps the bar unmet.
+
+#include "skills/learning/evaluation/library_bar.h"
+
+#include <gtest/gtest.h>
+
+namespace flsd {
+namespace {
+
+SkillSummary Skill(int id, double vx, double vy, double wz, double height = 0.28, double slip = 0.05) {
+  SkillSummary s;
+  s.skill = id;
+  s.survival_steps = 1000;  // the whole evaluation episode
+  s.mean_linear_velocity = {vx, vy, 0.0};
+  s.mean_angular_velocity = {0.0, 0.0, wz};
+  s.mean_base_height = height;
+  s.mean_stance_foot_speed = slip;
+  return s;
+}
+
+// A library that meets the bar: one skill each way, one still posture, pooled HF 0.03.
+Evaluation Library() {
+  Evaluation e;
+  e.skills = {Skill(0, 0.5, 0.0, 0.1),  Skill(1, -0.45, 0.05, -0.2), Skill(2, 0.0, 0.42, 0.0),
+              Skill(3, 0.1, -0.6, 0.25), Skill(4, 0.05, 0.0, 1.3),    Skill(5, 0.0, -0.1, -1.1),
+              Skill(6, 0.0, 0.0, 0.0, 0.20, 0.3), Skill(7, 0.7, 0.0, 0.5)};
+  e.high_frequency.pooled_ratio = 0.03;
+  return e;
+}
+
+TEST(LibraryBar, FindsTheFastestSkillEachWayWithinTheLimits) {
+  const LibraryBar bar = JudgeLibrary(Library());
+  EXPECT_EQ(bar.skill, (std::array<int, kNumDirections>{0, 1, 2, 3, 4, 5}));  // 7 turns too fast
+  EXPECT_DOUBLE_EQ(bar.speed[static_cast<int>(Direction::kRight)], 0.6);
+  EXPECT_DOUBLE_EQ(bar.speed[static_cast<int>(Direction::kTurnRight)], 1.1);
+  EXPECT_EQ(bar.movers, 7);  // the still posture's low, sliding stance does not count
+  EXPECT_DOUBLE_EQ(bar.lowest_mover_height, 0.28);
+  EXPECT_TRUE(bar.met);
+  EXPECT_EQ(LibraryBarJson(bar)["directions"]["turn_left"]["skill"], 4);
+}
+
+TEST(LibraryBar, EachFailureKeepsItUnmet) {
+  Evaluation e = Library();
+  e.skills[2].mean_linear_velocity[1] = 0.39;  // no skill goes left fast enough
+  LibraryBar bar = JudgeLibrary(e);
+  EXPECT_EQ(bar.skill[static_cast<int>(Direction::kLeft)], -1);
+  EXPECT_FALSE(bar.met);
+  EXPECT_TRUE(LibraryBarJson(bar)["directions"]["left"]["skill"].is_null());
+
+  e = Library();
+  e.skills[7].mean_base_height = 0.22;  // a crouching mover
+  EXPECT_FALSE(JudgeLibrary(e).met);
+  e = Library();
+  e.skills[4].mean_stance_foot_speed = 0.3;  // a turn that slides
+  EXPECT_FALSE(JudgeLibrary(e).met);
+  e = Library();
+  e.skills[6].fell = true;  // the still posture falls
+  bar = JudgeLibrary(e);
+  EXPECT_EQ(bar.survivors, 7);
+  EXPECT_FALSE(bar.met);
+  e = Library();
+  e.high_frequency.pooled_ratio = 0.06;
+  EXPECT_FALSE(JudgeLibrary(e).met);
+}
+
+}  // namespace
+}  // namespace flsd

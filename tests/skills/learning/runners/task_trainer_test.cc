@@ -1,0 +1,250 @@
+// The velocity task and its two learners (the selector over the shipped skills, and the policy
+// from scratch) on configs/selector_smoke.yaml: iterations, resume, the library fingerprint
+// guard, and the exported selector's parity with libtorch.
+
+#include "skills/learning/runners/task_trainer.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+
+#include "core/paths.h"
+#include "robot/observation.h"
+#include "skills/learning/evaluation/export.h"
+#include "skills/learning/evaluation/tracking_eval.h"
+#include "skills/learning/tasks/velocity_task.h"
+#include "skills/runtime/safetensors.h"
+#include "tests/common/test_support.h"
+
+namespace flsd {
+namespace {
+
+using ::testing::HasSubstr;
+using testutil::InputErrorMessage;
+namespace fs = std::filesystem;
+
+class TaskTraining : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testutil::UniqueTempPath("task");
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // The library is copied, so that a test may change it.
+    library_ = Path("skills.safetensors");
+    fs::copy_file(ResolveDataPath("models/a1_flsd.safetensors"), library_);
+    config_ = LoadTaskTrainConfig(ResolveDataPath("configs/selector_smoke.yaml"));
+    config_.library = library_;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+
+  // A new run in `name` with config_, trained to `iterations`.
+  int Train(const std::string& name, int iterations, bool resume = false) {
+    const std::string config_file = Path(name + ".yaml");
+    std::ofstream(config_file) << ToYamlString(config_);
+    TaskRunOptions options;
+    options.config_path = config_file;
+    options.run_dir = Path(name);
+    options.resume = resume;
+    options.iterations = iterations;
+    std::atomic<bool> stop{false};
+    return RunTaskTraining(options, stop);
+  }
+
+  std::string dir_, library_;
+  TaskTrainConfig config_;
+};
+
+TEST(VelocityTask, CommandsAreRedrawnOnScheduleAndSeenScaledInTheObservation) {
+  VelocityTaskConfig config;
+  config.commands.resampling_s = 0.1;  // every 5 control steps
+  config.commands.min_planar_speed = 0.0;
+  EnvConfig env;
+  env.randomization.DisableAll();
+  VelocityTask task(env, config, 2, 7, 1);
+  std::vector<float> actions(2 * kActionSize, 0.0f), obs(2 * kTaskObsSize);
+  const Eigen::Vector3d first = task.command(0);
+  for (int t = 0; t < 4; ++t) task.Step(actions.data());
+  EXPECT_EQ(task.command(0), first) << "redrawn before its time";
+  task.Step(actions.data());
+  EXPECT_NE(task.command(0), first) << "not redrawn after 5 steps";
+  task.WriteTaskObservations(obs.data());
+  const Eigen::Vector3d c = task.command(1);
+  EXPECT_FLOAT_EQ(obs[kTaskObsSize + kMotionObsSize + 0], 2.0 * c.x());  // o^m's base_lin_vel scale
+  EXPECT_FLOAT_EQ(obs[kTaskObsSize + kMotionObsSize + 1], 2.0 * c.y());
+  EXPECT_FLOAT_EQ(obs[kTaskObsSize + kMotionObsSize + 2], 0.25 * c.z());  // base_ang_vel scale
+  EXPECT_FLOAT_EQ(obs[kTaskObsSize + 0], task.vec_env().motion_obs()[kMotionObsSize + 0]);
+  // The reward is legged_gym's, on the state the step ended in: standing still under a command
+  // to move earns the tracking terms' values for that error.
+  const VelocityRewardTerms& terms = task.terms(0);
+  EXPECT_GT(terms.tracking_lin_vel, 0.0);
+  EXPECT_LE(terms.tracking_lin_vel, 1.0);
+  EXPECT_GE(task.rewards()[0], 0.0f);
+}
+
+TEST_F(TaskTraining, SelectorAndScratchRunsTrainResumeAndLogEveryIteration) {
+  ASSERT_EQ(Train("selector", 2), 0);
+  ASSERT_EQ(Train("selector", 3, /*resume=*/true), 0);
+  std::ifstream progress(Path("selector/progress.csv"));
+  std::string header, line;
+  std::getline(progress, header);
+  EXPECT_THAT(header, HasSubstr("mean_reward"));
+  int rows = 0;
+  for (; std::getline(progress, line); ++rows) EXPECT_EQ(std::stoi(line), rows + 1);
+  EXPECT_EQ(rows, 3);
+
+  config_.method = "scratch";
+  ASSERT_EQ(Train("scratch", 2), 0);
+  EXPECT_TRUE(fs::exists(Path("scratch/checkpoint.pt")));
+}
+
+// A selector trained on its rollouts' mirror images too, over commands drawn from what its
+// library's skills do: the run records the envelope it drew from, and the scratch policy mirrors
+// its joint actions the same way.
+TEST_F(TaskTraining, MirroredRunsOverTheLibrarysEnvelopeTrain) {
+  config_.mirror = true;
+  config_.task.commands.library_envelope = 1.1;
+  config_.task.commands.zero_share = 0.2;
+  ASSERT_EQ(Train("mirrored", 2), 0);
+  const TaskTrainConfig saved = LoadTaskTrainConfig(Path("mirrored/config.yaml"));
+  const std::array<Interval, 3> envelope = CommandEnvelope(SkillLibrary::Load(library_), 1.1);
+  EXPECT_EQ(saved.task.commands.vx, envelope[0]);
+  EXPECT_EQ(saved.task.commands.wz, envelope[2]);
+  config_.method = "scratch";
+  ASSERT_EQ(Train("mirrored_scratch", 2), 0);
+}
+
+// With reward streams the critic has two value heads: the run trains, resumes from its checkpoint,
+// and exports (loading the two-headed critic back), and the scratch policy does the same.
+TEST_F(TaskTraining, RunsWithRewardStreamsTrainResumeAndExport) {
+  config_.reward_streams = true;
+  ASSERT_EQ(Train("streams", 2), 0);
+  ASSERT_EQ(Train("streams", 3, /*resume=*/true), 0);
+  TrainedSelector trained = LoadTrainedSelector(config_, SkillLibrary::Load(library_).num_skills(),
+                                                Path("streams/checkpoint.pt"));
+  {
+    torch::NoGradGuard no_grad;
+    EXPECT_EQ(trained.policy->Value(torch::zeros({5, kTaskObsSize})).sizes(), (std::vector<int64_t>{5, 2}));
+  }
+  ExportSelector(Path("streams"), Path("streams.safetensors"));
+  EXPECT_TRUE(SkillLibrary::Load(Path("streams.safetensors")).selector().has_value());
+  config_.method = "scratch";
+  ASSERT_EQ(Train("streams_scratch", 2), 0);
+}
+
+TEST(VelocityTask, TheEnvelopeSpansTheSurvivingSkillsAndStill) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
+  const std::array<Interval, 3> envelope = CommandEnvelope(library, 1.0);
+  double vx_min = 0.0, vx_max = 0.0;
+  for (const SkillDescriptor& d : library.skills()) {
+    if (d.fell || d.survival_steps < 500) continue;
+    vx_min = std::min(vx_min, d.mean_linear_velocity.x());
+    vx_max = std::max(vx_max, d.mean_linear_velocity.x());
+  }
+  EXPECT_DOUBLE_EQ(envelope[0].lo, vx_min);
+  EXPECT_DOUBLE_EQ(envelope[0].hi, vx_max);
+  EXPECT_DOUBLE_EQ(CommandEnvelope(library, 1.5)[0].hi, 1.5 * vx_max);
+  VelocityCommandConfig all_zero;
+  all_zero.zero_share = 1.0;
+  Rng rng(3);
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(SampleVelocityCommand(rng, all_zero), Eigen::Vector3d::Zero());
+}
+
+TEST_F(TaskTraining, ASelectorIsNeverResumedOrExportedOverAChangedLibrary) {
+  ASSERT_EQ(Train("selector", 1), 0);
+  // Another library in the same place: one skill descriptor differs.
+  SafeTensors file = ReadSafeTensors(library_);
+  nlohmann::json metadata = nlohmann::json::parse(file.metadata["flsd"]);
+  metadata["skills"][0]["mean_base_height"] = 0.5;
+  file.metadata["flsd"] = metadata.dump();
+  WriteSafeTensors(library_, file);
+  EXPECT_THAT(InputErrorMessage([&] { Train("selector", 2, /*resume=*/true); }), HasSubstr("fingerprint"));
+  EXPECT_THAT(InputErrorMessage([&] { ExportSelector(Path("selector"), Path("out.safetensors")); }),
+              HasSubstr("fingerprint"));
+}
+
+TEST_F(TaskTraining, TheExportedSelectorMatchesLibtorchAndRunsTheSkills) {
+  ASSERT_EQ(Train("selector", 2), 0);
+  const std::string out = Path("with_selector.safetensors");
+  const nlohmann::json result = ExportSelector(Path("selector"), out);
+  EXPECT_EQ(result["tracking"]["cases"].size(), StandardTrackingCases().size());
+
+  const SkillLibrary library = SkillLibrary::Load(out);
+  ASSERT_TRUE(library.selector().has_value());
+  const SkillLibrary base = SkillLibrary::Load(library_);
+  EXPECT_EQ(library.num_skills(), base.num_skills());
+  EXPECT_EQ(library.metadata()["selector"]["evaluation"]["cases"].size(), StandardTrackingCases().size());
+
+  TrainedSelector trained = LoadTrainedSelector(config_, base.num_skills(), Path("selector/checkpoint.pt"));
+  torch::manual_seed(11);
+  const torch::Tensor obs = torch::randn({16, kTaskObsSize}) * 2.0;
+  torch::NoGradGuard no_grad;
+  const torch::Tensor logits = trained.policy->Distribution(trained.normalizer->Normalize(obs));
+  NetworkRunner runner(library.selector()->network);
+  HierarchicalPolicy hierarchy(library);
+  std::vector<float> out_logits(library.num_skills()), action(kActionSize), previous(kActionSize, 0.0f);
+  double worst = 0.0;
+  for (int64_t i = 0; i < obs.size(0); ++i) {
+    runner.Run(obs[i].data_ptr<float>(), out_logits.data());
+    for (int k = 0; k < library.num_skills(); ++k) {
+      worst = std::max(worst, std::abs(double(out_logits[k]) - logits[i][k].item<double>()));
+    }
+    // The hierarchy chooses the most probable skill for the same o^c (built from o^m and the
+    // command the observation encodes).
+    const float* row = obs[i].data_ptr<float>();
+    const double command[3] = {row[kMotionObsSize] / 2.0, row[kMotionObsSize + 1] / 2.0,
+                               row[kMotionObsSize + 2] / 0.25};
+    const std::array<double, 3> clipped = hierarchy.Clip(command);
+    if (clipped[0] == command[0] && clipped[1] == command[1] && clipped[2] == command[2]) {
+      const int skill = hierarchy.Act(row, command, previous.data(), action.data());
+      EXPECT_EQ(skill, logits[i].argmax().item<int64_t>()) << "sample " << i;
+    }
+  }
+  EXPECT_LT(worst, 1e-4) << "Eigen and libtorch selector logits differ";
+}
+
+// A selector trained to hold each skill for 3 control steps is served the same way: a choice on
+// the first call and every third after, whatever the observations do in between; Reset forgets.
+TEST_F(TaskTraining, TheSelectorHoldsItsChoiceForItsDecisionInterval) {
+  config_.decision_interval = 3;
+  ASSERT_EQ(Train("held", 1), 0);
+  const std::string out = Path("held.safetensors");
+  ExportSelector(Path("held"), out);
+  const SkillLibrary library = SkillLibrary::Load(out);
+  ASSERT_EQ(library.selector()->decision_interval, 3);
+  HierarchicalPolicy hierarchy(library);
+  NetworkRunner selector(library.selector()->network);
+  torch::manual_seed(5);
+  const torch::Tensor motion = torch::randn({12, kMotionObsSize}) * 3.0;
+  const double command[3] = {0.6, -0.4, 0.5};
+  std::vector<float> action(kActionSize), previous(kActionSize, 0.0f), obs(kTaskObsSize), logits(library.num_skills());
+  for (int call = 0; call < 12; ++call) {
+    const float* m = motion[call].data_ptr<float>();
+    const int chosen = hierarchy.Act(m, command, previous.data(), action.data());
+    const int decision = call - call % 3;  // the call that made this choice
+    BuildTaskObservation(motion[decision].data_ptr<float>(), command, obs.data());
+    selector.Run(obs.data(), logits.data());
+    EXPECT_EQ(chosen, std::max_element(logits.begin(), logits.end()) - logits.begin()) << "call " << call;
+  }
+  hierarchy.Reset();
+  BuildTaskObservation(motion[1].data_ptr<float>(), command, obs.data());
+  selector.Run(obs.data(), logits.data());
+  EXPECT_EQ(hierarchy.Act(motion[1].data_ptr<float>(), command, previous.data(), action.data()),
+            std::max_element(logits.begin(), logits.end()) - logits.begin());
+}
+
+TEST_F(TaskTraining, ExportingAScratchRunIsRefused) {
+  config_.method = "scratch";
+  ASSERT_EQ(Train("scratch", 1), 0);
+  config_.decision_interval = 2;
+  EXPECT_THAT(InputErrorMessage([&] { Train("scratch2", 1); }), HasSubstr("decision_interval"));
+  EXPECT_THAT(InputErrorMessage([&] { ExportSelector(Path("scratch"), Path("out.safetensors")); }),
+              HasSubstr("only a selector run"));
+}
+
+}  // namespace
+}  // namespace flsd

@@ -331,7 +331,7 @@ bool Controller::Standing(char* why, std::size_t size) const {
     if (!(error(j) <= error(worst_error))) worst_error = j;  // a NaN is the worst
     if (!(std::abs(state_.joint_velocity[j]) <= std::abs(state_.joint_velocity[fastest]))) fastest = j;
   }
-  const double tilt = SafetySupervisor::Tilt(state_);
+  const double tilt = TiltOf(state_);
   const double height = state_.base_position.z();
   const double error = std::abs(state_.joint_position[worst_error] - a1::kDefaultJointPos[worst_error]);
   const double speed = std::abs(state_.joint_velocity[fastest]);

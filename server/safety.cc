@@ -6,30 +6,29 @@
 
 namespace flsd {
 
-double SafetySupervisor::Tilt(const RobotState& state) {
-  const double cos_tilt = -state.ProjectedGravity().z();
-  return std::acos(std::clamp(cos_tilt, -1.0, 1.0));
+namespace {
+
+// A non-finite joint speed trips at once; a finite one is timed (SafetySupervisor::Check).
+uint32_t NonFiniteSpeeds(const RobotState& state) {
+  for (int j = 0; j < a1::kNumJoints; ++j) {
+    if (!std::isfinite(state.joint_velocity[j])) return kFaultJointVelocity;
+  }
+  return 0;
 }
 
-// Every limit is written so that a NaN breaks it: !(x <= limit) is true for NaN, x > limit is not.
+}  // namespace
+
 uint32_t SafetySupervisor::Hazards(const RobotState& state, const SafetyConfig& config) {
-  uint32_t faults = 0;
-  if (!(Tilt(state) <= config.max_tilt)) faults |= kFaultTilt;
-  for (int j = 0; j < a1::kNumJoints; ++j) {
-    const double q = state.joint_position[j];
-    if (!a1::WithinRange(j, q, config.joint_range_margin)) faults |= kFaultJointRange;
-    if (!std::isfinite(state.joint_velocity[j])) faults |= kFaultJointVelocity;  // the speed is timed in Check
-  }
-  return faults;
+  // A low base is no hazard here: the robot may lie on the floor.
+  return (BrokenLimits(state, config.limits) | NonFiniteSpeeds(state)) & ~kFaultLowBase;
 }
 
 uint32_t SafetySupervisor::Check(const RobotState& state, double dt, bool check_height) {
-  uint32_t faults = Hazards(state, config_);
-  if (check_height && config_.min_base_height > 0.0 && !(state.base_position.z() >= config_.min_base_height)) {
-    faults |= kFaultLowBase;
-  }
-  if (Outlasts(over_speed_.Update(FasterThan(state.joint_velocity, config_.max_joint_velocity), dt),
-               config_.max_joint_velocity_time)) {
+  uint32_t faults = BrokenLimits(state, config_.limits) | NonFiniteSpeeds(state);
+  if (!check_height) faults &= ~kFaultLowBase;
+  const StateLimits& limits = config_.limits;
+  if (Outlasts(over_speed_.Update(FasterThan(state.joint_velocity, limits.max_joint_speed), dt),
+               limits.max_joint_speed_time)) {
     faults |= kFaultJointVelocity;
   }
   const auto saturated = [&](int j) { return std::abs(state.joint_torque[j]) >= a1::kTorqueLimit - 1e-6; };
@@ -68,8 +67,8 @@ void DescribeFaults(uint32_t faults, const RobotState& state, const SafetyConfig
     return arg;
   };
   if (faults & kFaultStop) add("%semergency stop");
-  if (faults & kFaultTilt) add("%stilt %.2f rad > %.2f", SafetySupervisor::Tilt(state), config.max_tilt);
-  if (faults & kFaultLowBase) add("%sbase height %.3f m < %.3f", state.base_position.z(), config.min_base_height);
+  if (faults & kFaultTilt) add("%stilt %.2f rad > %.2f", TiltOf(state), config.limits.max_tilt);
+  if (faults & kFaultLowBase) add("%sbase height %.3f m < %.3f", state.base_position.z(), config.limits.min_base_height);
   if (faults & kFaultJointRange) {
     const int j = worst([&](int k) {
       const double q = state.joint_position[k];
@@ -82,7 +81,7 @@ void DescribeFaults(uint32_t faults, const RobotState& state, const SafetyConfig
     const int j = worst([&](int k) {
       return std::isfinite(state.joint_velocity[k]) ? std::abs(state.joint_velocity[k]) : HUGE_VAL;
     });
-    add("%s%s at %.1f rad/s > %.1f", a1::kJointNames[j], state.joint_velocity[j], config.max_joint_velocity);
+    add("%s%s at %.1f rad/s > %.1f", a1::kJointNames[j], state.joint_velocity[j], config.limits.max_joint_speed);
   }
   if (faults & kFaultTorque) add("%storque at the %.1f N m limit for over %.2f s", a1::kTorqueLimit,
                                  config.max_torque_saturation);

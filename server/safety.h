@@ -7,15 +7,16 @@
 
 #include "robot/joint_limit_timer.h"
 #include "robot/robot_state.h"
+#include "robot/state_limits.h"
 #include "server/server_config.h"
 
 namespace flsd {
 
 // Fault bits, as published in telemetry (RobotState.faults).
 enum FaultBit : uint32_t {
-  kFaultTilt = 1u << 0,           // attitude beyond max_tilt: a fall
-  kFaultLowBase = 1u << 1,        // base below min_base_height: a fall
-  kFaultJointRange = 1u << 2,     // a joint outside its range by more than the margin
+  kFaultTilt = kBreaksTilt,              // attitude beyond max_tilt: a fall
+  kFaultLowBase = kBreaksBaseHeight,     // base below min_base_height: a fall
+  kFaultJointRange = kBreaksJointRange,  // a joint outside its range by more than the margin
   kFaultJointVelocity = 1u << 3,  // a joint faster than max_joint_velocity for too long
   kFaultTorque = 1u << 4,         // a joint at the torque limit for longer than allowed
   kFaultBackend = 1u << 5,        // the backend's state cannot be trusted
@@ -47,9 +48,6 @@ class SafetySupervisor {
 
   // Clamps joint targets into the A1's joint ranges.
   static void ClampTargets(a1::JointArray<double>& targets);
-
-  // The tilt from upright, rad (NaN for a non-finite attitude).
-  static double Tilt(const RobotState& state);
 
   // What makes it unsafe to put stiffness on the joints at all, whatever the mode: a robot on
   // its side, a joint out of range, a non-finite reading. Stateless.

@@ -8,20 +8,19 @@
 #include "core/config.h"
 #include "hw/hw_config.h"
 #include "robot/a1.h"
+#include "robot/state_limits.h"
 #include "server/navigation/waypoint_follower.h"
 #include "sim/sim_backend_config.h"
 
 namespace flsd {
 
 struct SafetyConfig {
-  double max_tilt = 1.0;              // rad from upright (unitree_sdk2's G1 terminations use 1.0)
-  double min_base_height = 0.12;      // m; 0 turns the check off (an estimated height may drift)
-  double joint_range_margin = 0.1;    // rad a joint may be outside the A1's range before a trip
-  double max_joint_velocity = a1::kJointVelocityLimit;  // rad/s, the A1 motor's limit
-  // s a joint may stay above max_joint_velocity. A joint that stays past it for longer than a foot
-  // strike lasts is being driven by something else: a fall, a collision, a motor out of control.
-  // 0 trips at once.
-  double max_joint_velocity_time = a1::kJointOverspeedTolerance;
+  // The state limits training can end episodes by too (robot/state_limits.h). Here: a tilt of 1.0
+  // rad (unitree_sdk2's G1 terminations use 1.0); a base height of 0.12 m (0 turns it off: an
+  // estimated height may drift); 0.1 rad outside a joint's range; the A1 motor's 21 rad/s, for
+  // longer than a foot strike lasts (a joint past it for longer is driven by something else: a
+  // fall, a collision, a motor out of control; a time of 0 trips at once).
+  StateLimits limits;
   double max_torque_saturation = 0.5;  // s a joint may sit at the torque limit
   double max_power = 1000.0;       // W, sum of |tau qdot| (the SDK's PowerProtect at its level 10)
   double max_power_time = 0.1;     // s above max_power before a trip
@@ -33,11 +32,11 @@ struct SafetyConfig {
   int min_skill_survival = 500;
   template <class V>
   void Visit(V& v) {
-    v("max_tilt", max_tilt, Bounds<double>{0.1, 3.2});
-    v("min_base_height", min_base_height, Bounds<double>{0.0, 0.5});
-    v("joint_range_margin", joint_range_margin, Bounds<double>{0.0, 1.0});
-    v("max_joint_velocity", max_joint_velocity, Bounds<double>{1.0, 100.0});
-    v("max_joint_velocity_time", max_joint_velocity_time, Bounds<double>{0.0, 1.0});
+    v("max_tilt", limits.max_tilt, Bounds<double>{0.1, 3.2});
+    v("min_base_height", limits.min_base_height, Bounds<double>{0.0, 0.5});
+    v("joint_range_margin", limits.joint_range_margin, Bounds<double>{0.0, 1.0});
+    v("max_joint_velocity", limits.max_joint_speed, Bounds<double>{1.0, 100.0});
+    v("max_joint_velocity_time", limits.max_joint_speed_time, Bounds<double>{0.0, 1.0});
     v("max_torque_saturation", max_torque_saturation, Bounds<double>{0.02, 10.0});
     v("max_power", max_power, Bounds<double>{10.0, 10000.0});
     v("max_power_time", max_power_time, Bounds<double>{0.0, 10.0});

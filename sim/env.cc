@@ -170,8 +170,8 @@ Termination Env::Advance(const JointCommand& command, int substeps) {
     d.qvel[index_.root_qvel + 1] = Uniform(rng_, -push.max_velocity, push.max_velocity);
   }
   ReadState();
-  if (config_.termination.max_joint_speed > 0.0) {
-    overspeed_.Update(FasterThan(state_.joint_velocity, config_.termination.max_joint_speed),
+  if (config_.termination.limits.max_joint_speed > 0.0) {
+    overspeed_.Update(FasterThan(state_.joint_velocity, config_.termination.limits.max_joint_speed),
                       substeps * model_->opt.timestep);
   }
   return CheckTermination();
@@ -253,14 +253,14 @@ void Env::ReadState() {
 Termination Env::CheckTermination() const {
   const TerminationConfig& c = config_.termination;
   if (body_contact_ || (c.on_calf_contact && calf_contact_)) return Termination::kBodyContact;
-  if (state_.ProjectedGravity().z() > -std::cos(c.max_tilt)) return Termination::kTilt;
-  if (state_.base_position.z() < c.min_base_height) return Termination::kLowBase;
-  if (c.max_joint_speed > 0.0 && Outlasts(overspeed_.Longest(), c.max_joint_speed_time)) return Termination::kJointSpeed;
-  if (c.joint_range_margin >= 0.0) {
-    for (int j = 0; j < a1::kNumJoints; ++j) {
-      if (!a1::WithinRange(j, state_.joint_position[j], c.joint_range_margin)) return Termination::kJointRange;
-    }
+  const uint32_t broken = BrokenLimits(state_, c.limits);
+  if (broken & kBreaksTilt) return Termination::kTilt;
+  if (broken & kBreaksBaseHeight) return Termination::kLowBase;
+  const StateLimits& limits = c.limits;
+  if (limits.max_joint_speed > 0.0 && Outlasts(overspeed_.Longest(), limits.max_joint_speed_time)) {
+    return Termination::kJointSpeed;
   }
+  if (broken & kBreaksJointRange) return Termination::kJointRange;
   if (episode_step_ >= config_.episode_steps) return Termination::kTimeOut;
   return Termination::kNone;
 }

@@ -7,6 +7,7 @@
 
 #include "core/config.h"
 #include "robot/a1.h"
+#include "robot/state_limits.h"
 #include "robot/target_filter.h"
 #include "sim/constraints.h"
 
@@ -89,26 +90,22 @@ struct TerminationConfig {
   // A fall: any trunk, hip or thigh geom touching the floor (legged_gym ends on base contact;
   // we add thighs). Calf contact is a knee strike and counted, but does not end it.
   bool on_calf_contact = false;
-  double max_tilt = 1.2;          // rad between the body z axis and the world z axis
-  double min_base_height = 0.08;  // m; the paper's skills reach 0.09 m (Table I)
-  // rad/s; 0 turns it off. A joint past it for longer than max_joint_speed_time s ends the
-  // episode, timed at every control step (robot/joint_limit_timer.h). Set to the motor's limit
-  // (a1::kJointVelocityLimit, 21) with the default time, it ends an episode exactly where skilld's
-  // supervisor would stop the robot. (With a time of 0, the first sample past 21 rad/s, it led
-  // FLSD to still postures on our budget: runs/flsd_limit_s1, runs/flsd_s2_limit.)
-  double max_joint_speed = 0.0;
-  double max_joint_speed_time = a1::kJointOverspeedTolerance;
-  // rad a joint may be outside its range (MuJoCo's joint limits are soft) before the episode ends;
-  // negative turns it off. skilld's supervisor stops the robot at 0.1 (SafetyConfig's margin).
-  double joint_range_margin = -1.0;
+  // The state limits skilld's supervisor stops the robot by (robot/state_limits.h), here with
+  // training's defaults: a tilt of 1.2 rad; a base at 0.08 m (the paper's skills reach 0.09 m,
+  // Table I); no joint range (MuJoCo's joint limits are soft; skilld stops the robot at 0.1 rad
+  // past them) and no joint speed. Set to the motor's 21 rad/s with the default time, the speed
+  // ends an episode exactly where skilld would stop the robot; with a time of 0, the first sample
+  // past 21 rad/s, it led FLSD to still postures on our budget (runs/flsd_limit_s1,
+  // runs/flsd_s2_limit). configs/flsd_cpu_served.yaml sets skilld's limits.
+  StateLimits limits{1.2, 0.08, -1.0, 0.0, a1::kJointOverspeedTolerance};
   template <class V>
   void Visit(V& v) {
     v("on_calf_contact", on_calf_contact);
-    v("max_tilt", max_tilt, Bounds<double>{0.1, 3.2});
-    v("min_base_height", min_base_height, Bounds<double>{0.0, 1.0});
-    v("max_joint_speed", max_joint_speed, Bounds<double>{0.0, 1000.0});
-    v("max_joint_speed_time", max_joint_speed_time, Bounds<double>{0.0, 10.0});
-    v("joint_range_margin", joint_range_margin, Bounds<double>{-1.0, 1.0});
+    v("max_tilt", limits.max_tilt, Bounds<double>{0.1, 3.2});
+    v("min_base_height", limits.min_base_height, Bounds<double>{0.0, 1.0});
+    v("max_joint_speed", limits.max_joint_speed, Bounds<double>{0.0, 1000.0});
+    v("max_joint_speed_time", limits.max_joint_speed_time, Bounds<double>{0.0, 10.0});
+    v("joint_range_margin", limits.joint_range_margin, Bounds<double>{-1.0, 1.0});
   }
 };
 

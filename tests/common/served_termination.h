@@ -11,11 +11,7 @@ namespace flsd::testutil {
 
 inline TerminationConfig TerminationOf(const SafetyConfig& config) {
   TerminationConfig t;
-  t.max_tilt = config.max_tilt;
-  t.min_base_height = config.min_base_height;
-  t.max_joint_speed = config.max_joint_velocity;
-  t.max_joint_speed_time = config.max_joint_velocity_time;
-  t.joint_range_margin = config.joint_range_margin;
+  t.limits = config.limits;
   return t;
 }
 

@@ -300,7 +300,7 @@ TEST(EnvConfigYaml, ToYamlRoundTripPreservesEveryField) {
   original.episode_steps = 321;
   original.reset.joint_pos_scale = {0.9, 1.1};
   original.termination.on_calf_contact = true;
-  original.termination.max_tilt = 0.7;
+  original.termination.limits.max_tilt = 0.7;
   original.randomization.DisableAll();
   original.randomization.motor_strength.range = {0.8, 1.2};
   original.randomization.push.max_velocity = 0.3;

@@ -142,8 +142,8 @@ MirrorError MirrorRolloutError(const mjModel& model, int steps) {
   EnvConfig config;
   config.randomization.DisableAll();
   config.episode_steps = 100000;
-  config.termination.max_tilt = 3.2;
-  config.termination.min_base_height = 0.0;
+  config.termination.limits.max_tilt = 3.2;
+  config.termination.limits.min_base_height = 0.0;
   Env original(model, config, 1), image(model, config, 1);
   RobotState start = original.state();
   start.base_linear_velocity = {0.3, 0.1, 0.0};

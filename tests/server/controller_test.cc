@@ -424,7 +424,7 @@ TEST_F(ControllerTest, SkillsRunBackToBackOnlyFromAVerifiedStand) {
     for (int t = 0; t < 1000 && controller_.status().mode == Mode::kStand; ++t) controller_.Tick();
     ControllerStatus s = controller_.status();
     ASSERT_EQ(s.mode, Mode::kSkill) << "skill " << k << ": " << s.task.message.data();
-    EXPECT_LE(SafetySupervisor::Tilt(s.state), check.max_tilt) << k;
+    EXPECT_LE(TiltOf(s.state), check.max_tilt) << k;
     EXPECT_GE(s.state.base_position.z(), check.min_base_height) << k;
     EXPECT_LE(MaxJointError(s.state), check.max_joint_error + 0.05) << k;  // one policy tick in
     for (int t = 0; t < 300 && s.task.state == TaskState::kRunning; ++t) {

@@ -38,13 +38,13 @@ TEST(SafetySupervisor, StandingRobotBreaksNoLimit) {
 }
 
 TEST(SafetySupervisor, TiltIsTheAngleFromUpright) {
-  EXPECT_NEAR(SafetySupervisor::Tilt(Rolled(0.7)), 0.7, 1e-9);
-  EXPECT_NEAR(SafetySupervisor::Tilt(Rolled(-2.5)), 2.5, 1e-9);
+  EXPECT_NEAR(TiltOf(Rolled(0.7)), 0.7, 1e-9);
+  EXPECT_NEAR(TiltOf(Rolled(-2.5)), 2.5, 1e-9);
 }
 
 TEST(SafetySupervisor, TiltTripsJustPastTheLimit) {
   SafetyConfig config;
-  config.max_tilt = 1.0;
+  config.limits.max_tilt = 1.0;
   SafetySupervisor supervisor(config);
   EXPECT_EQ(supervisor.Check(Rolled(0.99), 0.02), 0u);
   EXPECT_EQ(supervisor.Check(Rolled(1.01), 0.02), kFaultTilt);
@@ -66,19 +66,19 @@ TEST(SafetySupervisor, NonFiniteReadingsBreakEveryLimit) {
 
 TEST(SafetySupervisor, LowBaseTripsUnlessHeightIsNotChecked) {
   SafetyConfig config;
-  config.min_base_height = 0.12;
+  config.limits.min_base_height = 0.12;
   SafetySupervisor supervisor(config);
   RobotState s = Standing();
   s.base_position.z() = 0.11;
   EXPECT_EQ(supervisor.Check(s, 0.02), kFaultLowBase);
   EXPECT_EQ(supervisor.Check(s, 0.02, /*check_height=*/false), 0u);
-  config.min_base_height = 0.0;  // off
+  config.limits.min_base_height = 0.0;  // off
   EXPECT_EQ(SafetySupervisor(config).Check(s, 0.02), 0u);
 }
 
 TEST(SafetySupervisor, JointOutsideItsRangeByMoreThanTheMarginTrips) {
   SafetyConfig config;
-  config.joint_range_margin = 0.1;
+  config.limits.joint_range_margin = 0.1;
   SafetySupervisor supervisor(config);
   RobotState s = Standing();
   s.joint_position[2] = a1::JointMin(2) - 0.09;  // FR calf, inside the margin
@@ -106,7 +106,7 @@ TEST(SafetySupervisor, JointVelocityTripsWhenItStaysAboveTheLimitLongerThanAFoot
   EXPECT_EQ(supervisor.Check(s, 0.02), kFaultJointVelocity);
   // With no time allowed, the first sample past the limit trips.
   SafetyConfig strict;
-  strict.max_joint_velocity_time = 0.0;
+  strict.limits.max_joint_speed_time = 0.0;
   EXPECT_EQ(SafetySupervisor(strict).Check(s, 0.02), kFaultJointVelocity);
 }
 
@@ -200,7 +200,7 @@ TEST(TerminationOf, EndsAnEpisodeWhereTheSupervisorTrips) {
   EXPECT_TRUE(SafetySupervisor(safety).Check(out_of_range.state(), a1::kControlDt) & kFaultJointRange);
 
   SafetyConfig tall = safety;
-  tall.min_base_height = 0.5;  // above the standing robot
+  tall.limits.min_base_height = 0.5;  // above the standing robot
   config.termination = TerminationOf(tall);
   Env low(*model, config, 1);
   EXPECT_EQ(low.Step(zero.data()), Termination::kLowBase);

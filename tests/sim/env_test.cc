@@ -435,7 +435,7 @@ TEST(EnvTermination, TiltBeyondMaxTiltEndsTheEpisode) {
 
 TEST(EnvTermination, BaseBelowMinHeightIsLowBase) {
   EnvConfig config = DeterministicConfig();
-  config.termination.min_base_height = 0.5;  // above the standing height
+  config.termination.limits.min_base_height = 0.5;  // above the standing height
   Env env(SceneModel(), config, 9);
   const Termination t = env.Step(Filled(0.0f).data());
   EXPECT_EQ(t, Termination::kLowBase);
@@ -448,7 +448,7 @@ TEST(EnvTermination, JointFasterThanMaxJointSpeedEndsTheEpisode) {
   // (the default) never does.
   const Action swing = Filled(4.0f);
   EnvConfig config = DeterministicConfig();
-  config.termination.max_joint_speed_time = 0.0;
+  config.termination.limits.max_joint_speed_time = 0.0;
   Env free_env(SceneModel(), config, 11);
   ASSERT_EQ(free_env.Step(swing.data()), Termination::kNone);
   double fastest = 0.0;
@@ -456,7 +456,7 @@ TEST(EnvTermination, JointFasterThanMaxJointSpeedEndsTheEpisode) {
   ASSERT_GT(fastest, 1.0);
   for (const auto& [limit, expected] :
        {std::pair{0.99 * fastest, Termination::kJointSpeed}, std::pair{1.01 * fastest, Termination::kNone}}) {
-    config.termination.max_joint_speed = limit;
+    config.termination.limits.max_joint_speed = limit;
     Env env(SceneModel(), config, 11);
     const Termination t = env.Step(swing.data());
     EXPECT_EQ(t, expected) << "limit " << limit << " rad/s, fastest joint " << fastest;
@@ -473,8 +473,8 @@ TEST(EnvTermination, AJointPastMaxJointSpeedEndsTheEpisodeOnlyAfterMaxJointSpeed
   // and ends at 0.06 s; a reset starts the count again.
   const Action swing = Filled(4.0f);
   EnvConfig config = DeterministicConfig();
-  config.termination.max_joint_speed = 1e-3;
-  ASSERT_DOUBLE_EQ(config.termination.max_joint_speed_time, a1::kJointOverspeedTolerance);
+  config.termination.limits.max_joint_speed = 1e-3;
+  ASSERT_DOUBLE_EQ(config.termination.limits.max_joint_speed_time, a1::kJointOverspeedTolerance);
   Env env(SceneModel(), config, 11);
   for (int round = 0; round < 2; ++round) {
     EXPECT_EQ(env.Step(swing.data()), Termination::kNone) << "round " << round;
@@ -489,7 +489,7 @@ TEST(EnvTermination, AJointFurtherOutOfRangeThanTheMarginEndsTheEpisode) {
   // margin. A margin just under that ends the episode, one just over does not, negative is off.
   EnvConfig config = DeterministicConfig();
   auto step_from_outside = [&](double margin) {
-    config.termination.joint_range_margin = margin;
+    config.termination.limits.joint_range_margin = margin;
     Env env(SceneModel(), config, 13);
     env.data().qpos[env.index().qpos[0]] = a1::JointMin(0) - 0.3;
     env.SyncState();

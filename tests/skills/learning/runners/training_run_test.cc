@@ -452,11 +452,11 @@ TEST(TrainingConfigs, TheServedConfigsEndEpisodesByTheSupervisorsDefaults) {
         LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_symmetric.yaml")).env.termination,
         LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_symmetric_mild.yaml")).env.termination,
         LoadTaskTrainConfig(ResolveDataPath("configs/selector_tracking_served.yaml")).env.termination}) {
-    EXPECT_EQ(served.max_tilt, supervisor.max_tilt);
-    EXPECT_EQ(served.min_base_height, supervisor.min_base_height);
-    EXPECT_EQ(served.max_joint_speed, supervisor.max_joint_speed);
-    EXPECT_EQ(served.max_joint_speed_time, supervisor.max_joint_speed_time);
-    EXPECT_EQ(served.joint_range_margin, supervisor.joint_range_margin);
+    EXPECT_EQ(served.limits.max_tilt, supervisor.limits.max_tilt);
+    EXPECT_EQ(served.limits.min_base_height, supervisor.limits.min_base_height);
+    EXPECT_EQ(served.limits.max_joint_speed, supervisor.limits.max_joint_speed);
+    EXPECT_EQ(served.limits.max_joint_speed_time, supervisor.limits.max_joint_speed_time);
+    EXPECT_EQ(served.limits.joint_range_margin, supervisor.limits.joint_range_margin);
     EXPECT_EQ(served.on_calf_contact, supervisor.on_calf_contact);
   }
 }

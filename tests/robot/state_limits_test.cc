@@ -9,22 +9,14 @@
 #include <cmath>
 
 #include "robot/robot_state.h"
+#include "tests/common/robot_states.h"
 
 namespace flsd {
 namespace {
 
-RobotState Standing() {
-  RobotState s;
-  s.base_position = {0.0, 0.0, 0.27};
-  s.joint_position = a1::kDefaultJointPos;
-  return s;
-}
+using testutil::Standing;
 
-RobotState Pitched(double angle) {
-  RobotState s = Standing();
-  s.base_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()));
-  return s;
-}
+RobotState Pitched(double angle) { return testutil::Turned(Eigen::Vector3d::UnitY(), angle); }
 
 TEST(TiltOf, IsTheAngleFromUprightWhicheverWay) {
   EXPECT_NEAR(TiltOf(Standing()), 0.0, 1e-12);

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "sim/env.h"
+#include "tests/common/robot_states.h"
 #include "tests/common/served_termination.h"
 
 namespace flsd {
@@ -19,18 +20,9 @@ using testutil::TerminationOf;
 
 using ::testing::HasSubstr;
 
-RobotState Standing() {
-  RobotState s;
-  s.base_position = {0.0, 0.0, 0.27};
-  s.joint_position = a1::kDefaultJointPos;
-  return s;
-}
+using testutil::Standing;
 
-RobotState Rolled(double angle) {
-  RobotState s = Standing();
-  s.base_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()));
-  return s;
-}
+RobotState Rolled(double angle) { return testutil::Turned(Eigen::Vector3d::UnitX(), angle); }
 
 TEST(SafetySupervisor, StandingRobotBreaksNoLimit) {
   SafetySupervisor supervisor{SafetyConfig{}};

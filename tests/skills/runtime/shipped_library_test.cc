@@ -1,7 +1,8 @@
-// The library that make demo and skilld ship (models/a1_flsd.safetensors): it loads with its
-// selector, and its three fastest skills keep the simulated A1 up for 10 s, run as skilld runs
-// them (PolicyRunner, Eigen, the library's target filter) on the nominal robot from its default
-// pose, within the limits of skilld's supervisor.
+// The libraries in models/. The one make demo and skilld ship (a1_flsd.safetensors) loads with its
+// selector; it and the mirror-symmetric one (a1_flsd_symmetric.safetensors) each keep the simulated
+// A1 up for 10 s with their three fastest skills, run as skilld runs them (PolicyRunner, Eigen, the
+// library's target filter) on the nominal robot from its default pose, within the limits of
+// skilld's supervisor. The symmetric one's skills are mirror images in pairs.
 
 #include <gtest/gtest.h>
 
@@ -18,9 +19,7 @@ namespace {
 
 using testutil::TerminationOf;
 
-TEST(ShippedLibrary, LoadsWithItsSelectorAndThreeSkillsKeepTheRobotUpFor10s) {
-  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
-  ASSERT_TRUE(library.selector().has_value()) << "the shipped library has no skill selector";
+void ExpectThreeFastestSkillsKeepTheRobotUpFor10s(const SkillLibrary& library) {
   const std::vector<int> skills = testutil::FastestSurvivingSkills(library, 3);
   ASSERT_EQ(skills.size(), 3u);
 
@@ -54,6 +53,33 @@ TEST(ShippedLibrary, LoadsWithItsSelectorAndThreeSkillsKeepTheRobotUpFor10s) {
     // A skill the library describes as moving does move.
     EXPECT_GT(path, 0.5 * 10.0 * library.skills()[skill].mean_linear_velocity.head<2>().norm()) << "skill " << skill;
   }
+}
+
+TEST(ShippedLibrary, LoadsWithItsSelectorAndThreeSkillsKeepTheRobotUpFor10s) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
+  ASSERT_TRUE(library.selector().has_value()) << "the shipped library has no skill selector";
+  ExpectThreeFastestSkillsKeepTheRobotUpFor10s(library);
+}
+
+TEST(SymmetricLibrary, ThreeSkillsKeepTheRobotUpFor10s) {
+  ExpectThreeFastestSkillsKeepTheRobotUpFor10s(
+      SkillLibrary::Load(ResolveDataPath("models/a1_flsd_symmetric.safetensors")));
+}
+
+// Skill k and its pair, as the library's evaluation measured them: the same forward speed, and
+// sideways speed and turn rate of opposite signs, to 0.08 (a self-paired skill goes straight, to
+// 0.04 m/s and rad/s).
+TEST(SymmetricLibrary, PairsMoveAsMirrorImages) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd_symmetric.safetensors"));
+  int pairs = 0;
+  for (const SkillDescriptor& d : library.skills()) {
+    const SkillDescriptor& m = library.skills()[d.mirror_skill];
+    pairs += d.mirror_skill != d.id;
+    EXPECT_NEAR(d.mean_linear_velocity.x(), m.mean_linear_velocity.x(), 0.08) << "skill " << d.id;
+    EXPECT_NEAR(d.mean_linear_velocity.y(), -m.mean_linear_velocity.y(), 0.08) << "skill " << d.id;
+    EXPECT_NEAR(d.mean_angular_velocity.z(), -m.mean_angular_velocity.z(), 0.08) << "skill " << d.id;
+  }
+  EXPECT_EQ(pairs, 12);  // 6 mirror pairs and 4 self-paired skills
 }
 
 }  // namespace

@@ -2,20 +2,36 @@
 // The skill library's format: the metadata fields that are facts of this robot and this build
 // (joint order, observation layout and scales, action scale and default pose, PD gains, control
 // period, limits), listed once. `flsd export` writes each as it is; SkillLibrary::Load checks each
-// against it and names the first that differs. What a library holds of its own (its skills, their
-// descriptors, the networks' sizes, the target filter, its training and evaluation) is written by
-// export.cc and read by skill_library.cc.
+// against it and names the first that differs. What a library holds of its own at the top level
+// (LibraryValues) and per skill (SkillDescriptor) is one field list each, which export.cc writes
+// and skill_library.cc reads; its networks, training and evaluation are written by export.cc.
 
 #include <string>
 #include <vector>
 
 #include "robot/a1.h"
 #include "robot/observation.h"
+#include "robot/target_filter.h"
 
 namespace flsd {
 
 inline constexpr const char* kSkillLibraryFormat = "flsd-skill-library";  // the safetensors "format" entry
 inline constexpr int kSkillLibraryVersion = 1;
+
+// A library's own top-level values. Visit calls v(pointer, field, required, min, max); a value
+// that is not required may be absent from older libraries and keeps its default: one from before
+// the target filter ran without one, one from before the second-order filter ran the first-order.
+struct LibraryValues {
+  int num_skills = 0;
+  double action_filter_hz = 0.0;  // the target filter's cutoff; 0: none
+  int action_filter_order = 1;
+  template <class V>
+  void Visit(V&& v) {
+    v("/num_skills", num_skills, true, 1.0, 1e6);
+    v("/action/filter_hz", action_filter_hz, false, 0.0, TargetFilter::kMaxCutoffHz);
+    v("/action/filter_order", action_filter_order, false, 1.0, 2.0);
+  }
+};
 
 // The paper's survival bar, "a survival time exceeding 500 steps" (10 s): the coverage metric
 // counts the skills that pass it, the shipping bar and the nearest-skill selector require it.

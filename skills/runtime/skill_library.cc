@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <type_traits>
 
 #include "core/check.h"
 #include "robot/a1.h"
@@ -219,23 +220,22 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
     m.Fail("/format_version", "is " + std::to_string(version) + " but this build reads version " +
                                   std::to_string(kSkillLibraryVersion));
   }
-  lib.num_skills_ = m.Get<int>("/num_skills");
-  if (lib.num_skills_ < 1) m.Fail("/num_skills", "must be at least 1");
+  LibraryValues values;
+  values.Visit([&](const char* pointer, auto& field, bool required, double min, double max) {
+    if (!required && !m.Has(pointer)) return;
+    field = m.Get<std::decay_t<decltype(field)>>(pointer);
+    if (!(field >= min && field <= max)) {
+      char range[64];
+      std::snprintf(range, sizeof(range), "must be within [%g, %g]", min, max);
+      m.Fail(pointer, range);
+    }
+  });
+  lib.num_skills_ = values.num_skills;
+  lib.action_filter_hz_ = values.action_filter_hz;
+  lib.action_filter_order_ = values.action_filter_order;
   lib.policy_obs_size_ = PolicyObservationSize(lib.num_skills_);
   VisitLibraryFacts([&](const std::string& pointer, const auto& expected) { m.Expect(pointer, expected); },
                     lib.num_skills_);
-  // Libraries exported before the target filter existed have no filter_hz: they ran without one.
-  if (m.Has("/action/filter_hz")) {
-    lib.action_filter_hz_ = m.Get<double>("/action/filter_hz");
-    if (!(lib.action_filter_hz_ >= 0.0 && lib.action_filter_hz_ <= TargetFilter::kMaxCutoffHz)) {
-      m.Fail("/action/filter_hz", "must be within [0, " + std::to_string(TargetFilter::kMaxCutoffHz) + "] Hz");
-    }
-  }
-  // Libraries exported before the second-order filter existed ran the first-order one.
-  if (m.Has("/action/filter_order")) {
-    lib.action_filter_order_ = m.Get<int>("/action/filter_order");
-    if (lib.action_filter_order_ != 1 && lib.action_filter_order_ != 2) m.Fail("/action/filter_order", "must be 1 or 2");
-  }
 
   lib.policy_ = ReadNetwork(file, m, "/policy", "policy.", "normalizer.", lib.policy_obs_size_, kActionSize,
                             kMotionObsSize + kActionSize);

@@ -58,9 +58,10 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
   nlohmann::json metadata;
   VisitLibraryFacts([&](const std::string& pointer, const auto& value) { metadata[nlohmann::json::json_pointer(pointer)] = value; },
                     config.num_skills);
-  metadata["num_skills"] = config.num_skills;
-  metadata["action"]["filter_hz"] = config.env.action_filter_hz;
-  metadata["action"]["filter_order"] = config.env.action_filter_order;
+  LibraryValues values{config.num_skills, config.env.action_filter_hz, config.env.action_filter_order};
+  values.Visit([&](const char* pointer, const auto& field, bool, double, double) {
+    metadata[nlohmann::json::json_pointer(pointer)] = field;
+  });
   metadata["policy"]["hidden"] = config.policy.actor_hidden;
   metadata["policy"]["layers"] = config.policy.actor_hidden.size() + 1;
   metadata["policy"]["normalizer_eps"] = RunningNormalizerImpl::kEps;

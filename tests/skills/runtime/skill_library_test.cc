@@ -236,6 +236,9 @@ TEST_F(SkillLibraryTest, CarriesTheTargetFilterOfTraining) {
   std::remove(old.c_str());
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["action"]["filter_hz"] = 40.0; }),
               HasSubstr("/action/filter_hz must be within [0, 25"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["action"]["filter_order"] = 3; }),
+              HasSubstr("/action/filter_order must be within [1, 2]"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["num_skills"] = 0; }), HasSubstr("/num_skills must be within [1, "));
 }
 
 TEST_F(SkillLibraryTest, RejectsBadTensors) {

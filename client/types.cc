@@ -6,13 +6,9 @@
 
 namespace flsd {
 
-// The client's reply status is the IDL's, value for value: converting is a cast (the modes: comm/protocol.cc).
-static_assert(static_cast<int>(ReplyStatus::kOk) == flsd_msgs_STATUS_OK);
-static_assert(static_cast<int>(ReplyStatus::kInternal) == flsd_msgs_STATUS_INTERNAL);
-
 const char* Name(ReplyStatus status) {
   if (status == ReplyStatus::kNoReply) return "no reply";
-  return dds::StatusName(static_cast<flsd_msgs_ReplyStatus>(status));
+  return dds::StatusName(dds::ToIdl(status));
 }
 
 const char* Name(Mode mode) { return dds::ModeName(static_cast<flsd_msgs_Mode>(mode)); }

@@ -1,8 +1,8 @@
 #pragma once
 // The client's own types: what a script sees of skilld's replies, skills, tasks and state, with
-// no IDL struct or C enum in sight. The enums keep the IDL's values (ReplyStatus checked in
-// types.cc; Mode and TaskState, which the server keeps too, in comm/protocol.cc), so converting
-// is a cast, and their names come from comm/protocol.h's tables.
+// no IDL struct or C enum in sight. Its enums are the server's too (comm/modes.h), with the IDL's
+// values (checked in comm/protocol.cc), so converting is a cast, and their names come from
+// comm/protocol.h's tables.
 
 #include <array>
 #include <cstdint>
@@ -13,19 +13,6 @@
 #include "comm/modes.h"
 
 namespace flsd {
-
-enum class ReplyStatus {
-  kOk,
-  kInvalidArgument,
-  kUnknownCall,
-  kNotInControl,
-  kNotAvailable,
-  kSafetyStop,
-  kDuplicate,
-  kDeadlineExceeded,
-  kInternal,
-  kNoReply,  // not the server's: no reply came within the call's timeout
-};
 
 // "ok", "not in control", "no reply"; "stand"; "succeeded", "lease lost".
 const char* Name(ReplyStatus status);

@@ -10,6 +10,8 @@ static_assert(static_cast<int>(Mode::kDamp) == flsd_msgs_MODE_DAMP);
 static_assert(static_cast<int>(TaskState::kNone) == flsd_msgs_TASK_NONE);
 static_assert(static_cast<int>(TaskState::kSafetyStop) == flsd_msgs_TASK_SAFETY_STOP);
 static_assert(static_cast<int>(TaskState::kTimeout) == flsd_msgs_TASK_TIMEOUT);
+static_assert(static_cast<int>(ReplyStatus::kOk) == flsd_msgs_STATUS_OK);
+static_assert(static_cast<int>(ReplyStatus::kInternal) == flsd_msgs_STATUS_INTERNAL);
 
 constexpr bool SpecsInEnumOrder() {
   for (std::size_t i = 0; i < std::size(kCallSpecs); ++i) {

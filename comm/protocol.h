@@ -76,5 +76,6 @@ const char* TaskStateName(flsd_msgs_TaskState state);
 // The project's enums (comm/modes.h) as the IDL's: the same values, so a cast.
 inline flsd_msgs_Mode ToIdl(Mode mode) { return static_cast<flsd_msgs_Mode>(mode); }
 inline flsd_msgs_TaskState ToIdl(TaskState state) { return static_cast<flsd_msgs_TaskState>(state); }
+inline flsd_msgs_ReplyStatus ToIdl(ReplyStatus status) { return static_cast<flsd_msgs_ReplyStatus>(status); }
 
 }  // namespace flsd::dds

@@ -112,7 +112,7 @@ void DdsService::ServeRequests() {
       if (client_id != identity) {
         // Before the handler: an impostor must not touch the lease, nor the ids and rate of the client it names.
         reply.emplace();
-        reply->status = flsd_msgs_STATUS_INVALID_ARGUMENT;
+        reply->status = ReplyStatus::kInvalidArgument;
         reply->message = "client_id '" + client_id + "' is not the authenticated identity of its writer (" +
                          (identity.empty() ? std::string("no longer matched") : identity) +
                          "); with DDS Security a client's id is its participant's identity; not executed";
@@ -125,7 +125,7 @@ void DdsService::ServeRequests() {
       spdlog::error("request '{}' from '{}' failed: {}", request.call ? request.call : "",
                     request.header.client_id ? request.header.client_id : "", e.what());
       ReplyContent internal;
-      internal.status = flsd_msgs_STATUS_INTERNAL;
+      internal.status = ReplyStatus::kInternal;
       internal.message = e.what();
       SendReply(client_id, request_id, deadline_ns, internal);
     }
@@ -153,7 +153,7 @@ void DdsService::SendReply(const std::string& client_id, uint64_t request_id, in
   reply.header.client_id = Text(client_id);
   reply.header.request_id = request_id;
   reply.header.deadline_ns = deadline_ns;
-  reply.status = content.status;
+  reply.status = dds::ToIdl(content.status);
   reply.message = Text(content.message);
   reply.safety_report = Text(content.safety_report);
   if (content.with_skills) {

@@ -54,7 +54,7 @@ void Navigator::Start(MapRequest request) {
     ++generation_;
   }
   if (dropped && dropped->reply) {
-    dropped->reply(flsd_msgs_STATUS_NOT_AVAILABLE, "superseded by a later navigate before its map was read");
+    dropped->reply(ReplyStatus::kNotAvailable, "superseded by a later navigate before its map was read");
   }
   wake_.notify_all();
 }
@@ -67,7 +67,7 @@ void Navigator::Cancel() {
     ++generation_;
   }
   if (dropped && dropped->reply) {
-    dropped->reply(flsd_msgs_STATUS_NOT_AVAILABLE, "superseded by a later request before its map was read");
+    dropped->reply(ReplyStatus::kNotAvailable, "superseded by a later request before its map was read");
   }
 }
 
@@ -105,7 +105,7 @@ bool Navigator::Accept(MapRequest& request, uint64_t generation) {
   try {
     request.job.map = Map2D::Parse(request.map_yaml, "the request's map");
   } catch (const InputError& e) {
-    request.reply(flsd_msgs_STATUS_INVALID_ARGUMENT, e.what());
+    request.reply(ReplyStatus::kInvalidArgument, e.what());
     return false;
   }
   bool submitted = false, superseded = false;
@@ -117,11 +117,11 @@ bool Navigator::Accept(MapRequest& request, uint64_t generation) {
     if (!superseded) submitted = controller_.Submit(request.task);
   }
   if (superseded) {
-    request.reply(flsd_msgs_STATUS_NOT_AVAILABLE, "superseded by a later request while its map was read");
+    request.reply(ReplyStatus::kNotAvailable, "superseded by a later request while its map was read");
   } else if (!submitted) {
-    request.reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+    request.reply(ReplyStatus::kInternal, "the control queue is full; retry");
   } else {
-    request.reply(flsd_msgs_STATUS_OK, request.accepted);
+    request.reply(ReplyStatus::kOk, request.accepted);
   }
   return submitted;
 }

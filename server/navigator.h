@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "flsd_msgs.h"
+#include "comm/modes.h"
 #include "server/controller.h"
 #include "server/navigation/map2d.h"
 #include "server/navigation/path_planner.h"
@@ -38,7 +38,7 @@ struct MapRequest {
   std::string map_yaml;
   ControlRequest task;   // the controller's task for the job
   std::string accepted;  // the reply's message once it is under way
-  std::function<void(flsd_msgs_ReplyStatus, const std::string&)> reply;
+  std::function<void(ReplyStatus, const std::string&)> reply;
 };
 
 class Navigator {

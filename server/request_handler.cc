@@ -10,7 +10,7 @@
 namespace flsd {
 namespace {
 
-ReplyContent Reply(flsd_msgs_ReplyStatus status, std::string message) {
+ReplyContent Reply(ReplyStatus status, std::string message) {
   ReplyContent r;
   r.status = status;
   r.message = std::move(message);
@@ -105,7 +105,7 @@ std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& requ
   Poll(now);
   const std::string client_id = request.header.client_id != nullptr ? request.header.client_id : "";
   if (client_id.empty() || client_id.size() > kMaxClientIdLength) {
-    return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT,
+    return Reply(ReplyStatus::kInvalidArgument,
                  "client_id must have 1 to " + std::to_string(kMaxClientIdLength) + " characters");
   }
   ClientState& client = Client(client_id, now);
@@ -115,7 +115,7 @@ std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& requ
   }
   const uint64_t id = request.header.request_id;
   if (client.seen_request && id <= client.last_request_id) {
-    return Reply(flsd_msgs_STATUS_DUPLICATE, "request_id " + std::to_string(id) + " is not above " +
+    return Reply(ReplyStatus::kDuplicate, "request_id " + std::to_string(id) + " is not above " +
                                                  std::to_string(client.last_request_id) +
                                                  ", the last one from this client or its forgotten peers; not executed");
   }
@@ -123,11 +123,11 @@ std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& requ
   client.last_request_id = id;
   const int64_t deadline = request.header.deadline_ns;
   if (deadline < 0) {
-    return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "deadline_ns must be 0 (none) or a CLOCK_REALTIME time in ns, got " +
+    return Reply(ReplyStatus::kInvalidArgument, "deadline_ns must be 0 (none) or a CLOCK_REALTIME time in ns, got " +
                                                         std::to_string(deadline) + "; not executed");
   }
   if (deadline != 0 && wall_ns > deadline) {  // both non-negative: the difference cannot overflow
-    return Reply(flsd_msgs_STATUS_DEADLINE_EXCEEDED,
+    return Reply(ReplyStatus::kDeadlineExceeded,
                  "arrived " + Seconds(static_cast<double>(wall_ns - deadline) * 1e-9) + " after its deadline; not executed");
   }
   // Any request that gets this far shows the holder is alive: it renews the lease.
@@ -146,34 +146,34 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
                                                      double now, const DeferredReply& later) {
   const std::string name = request.call != nullptr ? request.call : "";
   const std::optional<dds::Call> found = dds::FindCall(name);
-  if (!found) return Reply(flsd_msgs_STATUS_UNKNOWN_CALL, "unknown call '" + name + "'; known calls: " + dds::KnownCalls());
+  if (!found) return Reply(ReplyStatus::kUnknownCall, "unknown call '" + name + "'; known calls: " + dds::KnownCalls());
   const dds::Call call = *found;
   if (call == dds::Call::kListSkills) {
-    ReplyContent r = Reply(flsd_msgs_STATUS_OK, std::to_string(controller_.library().num_skills()) + " skills");
+    ReplyContent r = Reply(ReplyStatus::kOk, std::to_string(controller_.library().num_skills()) + " skills");
     r.with_skills = true;
     return r;
   }
-  if (call == dds::Call::kStatus) return Reply(flsd_msgs_STATUS_OK, StatusText(controller_.status()));
+  if (call == dds::Call::kStatus) return Reply(ReplyStatus::kOk, StatusText(controller_.status()));
   if (call == dds::Call::kAcquireControl) {
     if (!lease_.Acquire(client_id, now)) {
-      return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "control is held by " + lease_.holder());
+      return Reply(ReplyStatus::kNotInControl, "control is held by " + lease_.holder());
     }
-    return Reply(flsd_msgs_STATUS_OK, "control granted; it lapses after " + Seconds(lease_.timeout()) +
+    return Reply(ReplyStatus::kOk, "control granted; it lapses after " + Seconds(lease_.timeout()) +
                                           " without a request from this client");
   }
   if (call == dds::Call::kRenewControl) {  // a heartbeat: never grants a lease that is not held
     if (!lease_.Renew(client_id, now)) {
-      return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, lease_.held() ? "control is held by " + lease_.holder()
+      return Reply(ReplyStatus::kNotInControl, lease_.held() ? "control is held by " + lease_.holder()
                                                                   : std::string("this client does not hold control"));
     }
-    return Reply(flsd_msgs_STATUS_OK, "control renewed");
+    return Reply(ReplyStatus::kOk, "control renewed");
   }
   if (call == dds::Call::kReleaseControl) {
     if (!lease_.Release(client_id)) {
-      return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL, "this client does not hold control");
+      return Reply(ReplyStatus::kNotInControl, "this client does not hold control");
     }
     StopTaskOf(client_id, TaskState::kCancelled, "control released", request.header.request_id);
-    return Reply(flsd_msgs_STATUS_OK, "control released; the robot stands");
+    return Reply(ReplyStatus::kOk, "control released; the robot stands");
   }
   if (call == dds::Call::kDamp) {  // the emergency stop: anyone may press it
     ControlRequest damp;
@@ -182,13 +182,13 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     SetText(damp.client_id, client_id.c_str());
     damp.request_id = request.header.request_id;
     controller_.SubmitUrgent(damp);
-    return Reply(flsd_msgs_STATUS_OK, "damping; latched until clear_stop (from this client, or from any after " +
+    return Reply(ReplyStatus::kOk, "damping; latched until clear_stop (from this client, or from any after " +
                                           Seconds(config_.safety.stop_hold_time) + "), then stand");
   }
   if (call == dds::Call::kClearStop) return ClearStop(client_id);
   FLSD_DEMAND(dds::Spec(call).needs_control);  // every other call moves the robot
   if (!lease_.Renew(client_id, now)) {
-    return Reply(flsd_msgs_STATUS_NOT_IN_CONTROL,
+    return Reply(ReplyStatus::kNotInControl,
                  lease_.held() ? "control is held by " + lease_.holder()
                                : std::string("no client holds control; call acquire_control first"));
   }
@@ -202,50 +202,50 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
   if (call == dds::Call::kExecuteSkill) {
     const int k = request.skill;
     if (k < 0 || k >= controller_.library().num_skills()) {
-      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "skill " + std::to_string(k) + " is not in [0, " +
+      return Reply(ReplyStatus::kInvalidArgument, "skill " + std::to_string(k) + " is not in [0, " +
                                                           std::to_string(controller_.library().num_skills()) + ")");
     }
     if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
-      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+      return Reply(ReplyStatus::kInvalidArgument, why);
     }
     const SkillDescriptor& skill = controller_.library().skills()[k];
     if (skill.fell && skill.survival_steps < config_.safety.min_skill_survival) {
-      return Reply(flsd_msgs_STATUS_NOT_AVAILABLE,
+      return Reply(ReplyStatus::kNotAvailable,
                    "skill " + std::to_string(k) + " fell after " + std::to_string(skill.survival_steps) +
                        " steps in the library's evaluation (fewer than safety.min_skill_survival = " +
                        std::to_string(config_.safety.min_skill_survival) + "); it is not run");
     }
     if (const std::string blocked = MotionBlocked(status); !blocked.empty()) {
-      return Reply(flsd_msgs_STATUS_SAFETY_STOP, blocked);
+      return Reply(ReplyStatus::kSafetyStop, blocked);
     }
     control.kind = ControlRequest::Kind::kSkill;
     control.skill = k;
     control.duration = request.duration;
     if (!Submit(control, client_id, request.header.request_id)) {
-      return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+      return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
     }
-    return Reply(flsd_msgs_STATUS_OK, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
+    return Reply(ReplyStatus::kOk, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
                                           " accepted; progress is on the state topic");
   }
   if (call == dds::Call::kTrackVelocity || call == dds::Call::kNavigate) return Velocity(request, call, client_id, later);
   if (call == dds::Call::kReset && !controller_.backend_can_reset()) {
-    return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "this backend cannot reset the robot; stand it up by hand");
+    return Reply(ReplyStatus::kNotAvailable, "this backend cannot reset the robot; stand it up by hand");
   }
   if ((call == dds::Call::kStand || call == dds::Call::kReset) && (status.faults & kFaultStop)) {
-    return Reply(flsd_msgs_STATUS_SAFETY_STOP, std::string("cannot ") + dds::CallName(call) + ": " + EmergencyStopText(status));
+    return Reply(ReplyStatus::kSafetyStop, std::string("cannot ") + dds::CallName(call) + ": " + EmergencyStopText(status));
   }
   if (call == dds::Call::kStand && status.hazards != 0) {
     // Standing clears a latched stop, but only once the robot is upright, in range and sensed.
-    return Reply(flsd_msgs_STATUS_SAFETY_STOP, "cannot stand: " + HazardText(status));
+    return Reply(ReplyStatus::kSafetyStop, "cannot stand: " + HazardText(status));
   }
   control.kind = call == dds::Call::kStand ? ControlRequest::Kind::kStand
                  : call == dds::Call::kStop ? ControlRequest::Kind::kStop
                                             : ControlRequest::Kind::kReset;
   SetText(control.reason, ("stopped by " + client_id).c_str());
   if (!Submit(control, client_id, request.header.request_id)) {
-    return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+    return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
   }
-  return Reply(flsd_msgs_STATUS_OK, call == dds::Call::kStand  ? "standing"
+  return Reply(ReplyStatus::kOk, call == dds::Call::kStand  ? "standing"
                                     : call == dds::Call::kStop ? "stopping; the robot stands"
                                                                : "reset");
 }
@@ -284,24 +284,24 @@ std::string RequestHandler::HazardText(const ControllerStatus& status) const {
 
 ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
   const ControllerStatus status = controller_.status();
-  if (!(status.faults & kFaultStop)) return Reply(flsd_msgs_STATUS_OK, "no emergency stop is latched");
+  if (!(status.faults & kFaultStop)) return Reply(ReplyStatus::kOk, "no emergency stop is latched");
   const double held = status.time - status.stop_time;
   if (client_id != status.stop_client.data() && held < config_.safety.stop_hold_time) {
-    return Reply(flsd_msgs_STATUS_SAFETY_STOP, EmergencyStopText(status) + " (" +
+    return Reply(ReplyStatus::kSafetyStop, EmergencyStopText(status) + " (" +
                                                    Seconds(config_.safety.stop_hold_time - held) + " left)");
   }
   ControlRequest clear;
   clear.kind = ControlRequest::Kind::kClearStop;
   clear.pressed_at = status.stop_time;
   SetText(clear.client_id, client_id.c_str());
-  if (!controller_.Submit(clear)) return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
-  return Reply(flsd_msgs_STATUS_OK, "emergency stop cleared; the robot stays damped until stand");
+  if (!controller_.Submit(clear)) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
+  return Reply(ReplyStatus::kOk, "emergency stop cleared; the robot stays damped until stand");
 }
 
 std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, dds::Call call,
                                                      const std::string& client_id, const DeferredReply& later) {
   if (!controller_.has_selector()) {
-    return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, std::string(dds::CallName(call)) + " is not available: the skill library " +
+    return Reply(ReplyStatus::kNotAvailable, std::string(dds::CallName(call)) + " is not available: the skill library " +
                                                      controller_.library().path() +
                                                      " has no skill selector (flsd export-selector adds one) and the "
                                                      "server's selector is '" + config_.selector + "'");
@@ -312,9 +312,9 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
   std::optional<NavigationJob> job;
   std::string map_yaml;
   if (call == dds::Call::kTrackVelocity) {
-    if (!AllFinite(request.velocity, 3)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "velocity must be finite");
+    if (!AllFinite(request.velocity, 3)) return Reply(ReplyStatus::kInvalidArgument, "velocity must be finite");
     if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
-      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+      return Reply(ReplyStatus::kInvalidArgument, why);
     }
     std::copy(request.velocity, request.velocity + 3, control.velocity.begin());
     control.duration = request.duration;
@@ -341,13 +341,13 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
       accepted += text;
     }
   } else {
-    if (!AllFinite(request.goal, 2)) return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "goal must be finite");
-    if (navigator_ == nullptr) return Reply(flsd_msgs_STATUS_NOT_AVAILABLE, "navigate is not available on this server");
+    if (!AllFinite(request.goal, 2)) return Reply(ReplyStatus::kInvalidArgument, "goal must be finite");
+    if (navigator_ == nullptr) return Reply(ReplyStatus::kNotAvailable, "navigate is not available on this server");
     job.emplace();
     job->goal = Eigen::Vector2d(request.goal[0], request.goal[1]);
     map_yaml = request.map_yaml != nullptr ? request.map_yaml : "";
     if (map_yaml.size() > Map2D::kMaxTextBytes) {  // read on the navigator's thread, but not kept unread
-      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, "map_yaml has " + std::to_string(map_yaml.size()) +
+      return Reply(ReplyStatus::kInvalidArgument, "map_yaml has " + std::to_string(map_yaml.size()) +
                                                           " bytes; a map may have at most " +
                                                           std::to_string(Map2D::kMaxTextBytes));
     }
@@ -356,14 +356,14 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
     } else if (default_map_) {
       job->map = *default_map_;
     } else {
-      return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT,
+      return Reply(ReplyStatus::kInvalidArgument,
                    "no map: send one with the request, or name one in the server config (navigation.map)");
     }
     // A duration, if given, bounds this navigation; otherwise the server's navigation.timeout.
     job->timeout = config_.navigation.timeout;
     if (request.duration != 0.0) {
       if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
-        return Reply(flsd_msgs_STATUS_INVALID_ARGUMENT, why);
+        return Reply(ReplyStatus::kInvalidArgument, why);
       }
       job->timeout = request.duration;
     }
@@ -374,7 +374,7 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
     accepted = text;
   }
   if (const std::string blocked = MotionBlocked(controller_.status()); !blocked.empty()) {
-    return Reply(flsd_msgs_STATUS_SAFETY_STOP, blocked);
+    return Reply(ReplyStatus::kSafetyStop, blocked);
   }
   accepted += "; progress is on the state topic";
   if (job) {
@@ -386,16 +386,16 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
     SetText(control.client_id, client_id.c_str());
     control.request_id = request.header.request_id;
     navigator_->Start(MapRequest{std::move(*job), std::move(map_yaml), control, accepted,
-                                 [later](flsd_msgs_ReplyStatus status, const std::string& message) {
+                                 [later](ReplyStatus status, const std::string& message) {
                                    later(Reply(status, message));
                                  }});
     return std::nullopt;
   }
   if (!Submit(control, client_id, request.header.request_id)) {
-    return Reply(flsd_msgs_STATUS_INTERNAL, "the control queue is full; retry");
+    return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
   }
   if (job) navigator_->Start(std::move(*job));
-  return Reply(flsd_msgs_STATUS_OK, accepted);
+  return Reply(ReplyStatus::kOk, accepted);
 }
 
 bool RequestHandler::Submit(ControlRequest request, const std::string& client_id, uint64_t request_id) {

@@ -20,7 +20,7 @@
 namespace flsd {
 
 struct ReplyContent {
-  flsd_msgs_ReplyStatus status = flsd_msgs_STATUS_OK;
+  ReplyStatus status = ReplyStatus::kOk;
   std::string message;
   bool with_skills = false;   // list_skills: attach the library's skill descriptors
   std::string safety_report;  // safety trips this client has not been told of

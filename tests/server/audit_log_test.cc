@@ -60,7 +60,7 @@ TEST(AuditLogTest, ALineNamesTheSenderTheCallItsArgumentsAndTheReply) {
     velocity.velocity[2] = -1.0;
     velocity.duration = 2.5;
     ReplyContent refused;
-    refused.status = flsd_msgs_STATUS_NOT_IN_CONTROL;
+    refused.status = ReplyStatus::kNotInControl;
     refused.message = "control is held by alice";
     log.Record(log.Describe("0123456789ab-cdef01234567", velocity), refused);
   }

@@ -63,69 +63,69 @@ class RequestHandlerTest : public testutil::ControllerFixture {
 
 TEST_F(RequestHandlerTest, ListAndStatusNeedNoControl) {
   const ReplyContent list = Send("a", "list_skills");
-  EXPECT_EQ(list.status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(list.status, ReplyStatus::kOk);
   EXPECT_TRUE(list.with_skills);
   const ReplyContent status = Send("a", "status");
-  EXPECT_EQ(status.status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(status.status, ReplyStatus::kOk);
   EXPECT_THAT(status.message, HasSubstr("mode idle"));
   EXPECT_THAT(status.message, HasSubstr("control free"));
 }
 
 TEST_F(RequestHandlerTest, MotionNeedsTheLeaseAndOnlyItsHolderMoves) {
   EXPECT_THAT(Send("a", "stand").message, HasSubstr("call acquire_control first"));
-  EXPECT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
   const ReplyContent refused = Send("b", "acquire_control", 0.1);
-  EXPECT_EQ(refused.status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  EXPECT_EQ(refused.status, ReplyStatus::kNotInControl);
   EXPECT_THAT(refused.message, HasSubstr("held by a"));
-  EXPECT_EQ(Skill("b", 0, 1.0, 0.2).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
-  EXPECT_EQ(Send("b", "stop", 0.3).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
-  EXPECT_EQ(Skill("a", 0, 1.0, 0.4).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Skill("b", 0, 1.0, 0.2).status, ReplyStatus::kNotInControl);
+  EXPECT_EQ(Send("b", "stop", 0.3).status, ReplyStatus::kNotInControl);
+  EXPECT_EQ(Skill("a", 0, 1.0, 0.4).status, ReplyStatus::kOk);
 }
 
 TEST_F(RequestHandlerTest, RenewingNeverGrantsALeaseThatIsNotHeld) {
-  EXPECT_EQ(Send("a", "renew_control").status, flsd_msgs_STATUS_NOT_IN_CONTROL);
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
-  EXPECT_EQ(Send("a", "renew_control", 0.9).status, flsd_msgs_STATUS_OK);
-  EXPECT_EQ(Send("b", "renew_control", 1.0).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
-  EXPECT_EQ(Send("a", "renew_control", 2.5).status, flsd_msgs_STATUS_NOT_IN_CONTROL);  // lapsed at 1.9
+  EXPECT_EQ(Send("a", "renew_control").status, ReplyStatus::kNotInControl);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  EXPECT_EQ(Send("a", "renew_control", 0.9).status, ReplyStatus::kOk);
+  EXPECT_EQ(Send("b", "renew_control", 1.0).status, ReplyStatus::kNotInControl);
+  EXPECT_EQ(Send("a", "renew_control", 2.5).status, ReplyStatus::kNotInControl);  // lapsed at 1.9
 }
 
 TEST_F(RequestHandlerTest, AnyClientMayDamp) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
-  EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  EXPECT_EQ(Send("b", "damp", 0.1).status, ReplyStatus::kOk);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kDamp);
   const ReplyContent skill = Skill("a", 0, 1.0, 0.2);
-  EXPECT_EQ(skill.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_EQ(skill.status, ReplyStatus::kSafetyStop);
   EXPECT_THAT(skill.message, HasSubstr("an emergency stop from b is latched; call clear_stop"));
 }
 
 TEST_F(RequestHandlerTest, DampGetsThroughAQueueFloodedByTheController) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
   for (int i = 0; i < 40; ++i) Send("a", "stand", 0.001 * i);  // more than the queue holds
-  EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("b", "damp", 0.1).status, ReplyStatus::kOk);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kDamp);
 }
 
 TEST_F(RequestHandlerTest, BadArgumentsAreRefusedWithTheReason) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
   const int k = controller_.library().num_skills();
   EXPECT_THAT(Skill("a", k, 1.0).message, HasSubstr("skill " + std::to_string(k) + " is not in [0, "));
   EXPECT_THAT(Skill("a", -1, 1.0).message, HasSubstr("is not in"));
   for (double bad : {0.0, -1.0, double(NAN), double(INFINITY), 1e9}) {
     const ReplyContent r = Skill("a", 0, bad);
-    EXPECT_EQ(r.status, flsd_msgs_STATUS_INVALID_ARGUMENT) << bad;
+    EXPECT_EQ(r.status, ReplyStatus::kInvalidArgument) << bad;
     EXPECT_THAT(r.message, HasSubstr("duration must be in (0, 600.00 s]")) << bad;
   }
   const ReplyContent vel = Send("a", "track_velocity", 0.0, [](flsd_msgs_Request& r) {
     r.velocity[1] = NAN;
     r.duration = 1.0;
   });
-  EXPECT_EQ(vel.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_EQ(vel.status, ReplyStatus::kInvalidArgument);
   EXPECT_THAT(vel.message, HasSubstr("velocity must be finite"));
   EXPECT_EQ(Send("a", "navigate", 0.0, [](flsd_msgs_Request& r) { r.goal[0] = INFINITY; }).status,
-            flsd_msgs_STATUS_INVALID_ARGUMENT);
+            ReplyStatus::kInvalidArgument);
 }
 
 TEST(RequestHandlerSkills, SkillsThatFellInEvaluationAreRefused) {
@@ -142,25 +142,25 @@ TEST(RequestHandlerSkills, SkillsThatFellInEvaluationAreRefused) {
     r.msg.duration = 1.0;
     return *handler.Handle(r.msg, 0.0, 0);
   };
-  ASSERT_EQ(call(1, "acquire_control", 0).status, flsd_msgs_STATUS_OK);
-  EXPECT_EQ(call(2, "execute_skill", 1).status, flsd_msgs_STATUS_OK);  // survived 1000 steps
+  ASSERT_EQ(call(1, "acquire_control", 0).status, ReplyStatus::kOk);
+  EXPECT_EQ(call(2, "execute_skill", 1).status, ReplyStatus::kOk);  // survived 1000 steps
   // `library` is this test's own copy, so editing its descriptor in place is fine.
   auto& fallen = const_cast<SkillDescriptor&>(library.skills()[1]);
   fallen.survival_steps = 9;
   fallen.fell = true;
   const ReplyContent r = call(3, "execute_skill", 1);
-  EXPECT_EQ(r.status, flsd_msgs_STATUS_NOT_AVAILABLE);
+  EXPECT_EQ(r.status, ReplyStatus::kNotAvailable);
   EXPECT_THAT(r.message, HasSubstr("skill 1 fell after 9 steps in the library's evaluation"));
 }
 
 TEST_F(RequestHandlerTest, VelocityOutsideTheTrainedRangeIsClippedAndTheReplySaysSo) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
   const ReplyContent r = Send("a", "track_velocity", 0.0, [](flsd_msgs_Request& m) {
     m.velocity[0] = 3.0;
     m.velocity[2] = -2.0;
     m.duration = 1.0;
   });
-  ASSERT_EQ(r.status, flsd_msgs_STATUS_OK) << r.message;
+  ASSERT_EQ(r.status, ReplyStatus::kOk) << r.message;
   EXPECT_THAT(r.message, HasSubstr("vx clipped to 1.00"));
   EXPECT_THAT(r.message, HasSubstr("wz clipped to -1.00"));
   EXPECT_THAT(r.message, ::testing::Not(HasSubstr("vy clipped")));
@@ -183,7 +183,7 @@ class LaterReplies {
     arrived_.wait_for(lock, std::chrono::seconds(10), [&] { return taken_ < replies_.size(); });
     if (taken_ < replies_.size()) return replies_[taken_++];
     ReplyContent none;
-    none.status = flsd_msgs_STATUS_INTERNAL;
+    none.status = ReplyStatus::kInternal;
     none.message = "no reply within 10 s";
     return none;
   }
@@ -196,7 +196,7 @@ class LaterReplies {
 };
 
 TEST_F(RequestHandlerTest, NavigateNeedsANavigatorAndAMapThatParses) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
   LaterReplies later;
   // The reply now, or the one the navigator sends once it has read the map.
   auto navigate = [&](RequestHandler& handler, uint64_t id, const std::string& map_yaml) {
@@ -206,28 +206,28 @@ TEST_F(RequestHandlerTest, NavigateNeedsANavigatorAndAMapThatParses) {
     const std::optional<ReplyContent> now = handler.Handle(r.msg, 0.0, kWallNow, later.sink());
     return now ? *now : later.Next();
   };
-  EXPECT_EQ(navigate(handler_, 10, "").status, flsd_msgs_STATUS_NOT_AVAILABLE);  // no navigator here
+  EXPECT_EQ(navigate(handler_, 10, "").status, ReplyStatus::kNotAvailable);  // no navigator here
 
   Navigator navigator(controller_, config_.navigation);
   RequestHandler handler(controller_, config_, &navigator);
-  ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, kWallNow)->status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, kWallNow)->status, ReplyStatus::kOk);
   const ReplyContent no_map = navigate(handler, 2, "");
-  EXPECT_EQ(no_map.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_EQ(no_map.status, ReplyStatus::kInvalidArgument);
   EXPECT_THAT(no_map.message, HasSubstr("no map"));
   const ReplyContent bad_map = navigate(handler, 3, "bounds: [1, 2]\n");
-  EXPECT_EQ(bad_map.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_EQ(bad_map.status, ReplyStatus::kInvalidArgument);
   EXPECT_THAT(bad_map.message, HasSubstr("the request's map"));
   // Bounds OMPL cannot sample in are refused, naming the bound.
   for (const char* bounds : {"[-.inf, .inf, -5, 5]", "[-1e300, 1e300, -5, 5]"}) {
     const ReplyContent r = navigate(handler, 4 + (bounds[2] == '1'), std::string("bounds: ") + bounds + "\n");
-    EXPECT_EQ(r.status, flsd_msgs_STATUS_INVALID_ARGUMENT) << bounds;
+    EXPECT_EQ(r.status, ReplyStatus::kInvalidArgument) << bounds;
     EXPECT_THAT(r.message, HasSubstr("bounds[0] (x_min): expected a finite number within [-1000, 1000] m")) << bounds;
   }
   const ReplyContent too_big = navigate(handler, 6, std::string(Map2D::kMaxTextBytes + 1, ' '));
-  EXPECT_EQ(too_big.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_EQ(too_big.status, ReplyStatus::kInvalidArgument);
   EXPECT_THAT(too_big.message, HasSubstr("a map may have at most 65536"));
   const ReplyContent ok = navigate(handler, 7, "bounds: [-5, 5, -5, 5]\n");
-  EXPECT_EQ(ok.status, flsd_msgs_STATUS_OK) << ok.message;
+  EXPECT_EQ(ok.status, ReplyStatus::kOk) << ok.message;
   EXPECT_THAT(ok.message, HasSubstr("planning"));
 }
 
@@ -253,11 +253,11 @@ TEST(RequestHandlerSelector, WithoutALearnedSelectorTheNearestSkillOneServesUnle
     Controller controller(backend, library, config);
     EXPECT_FALSE(controller.has_selector());
     RequestHandler handler(controller, config);
-    ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, flsd_msgs_STATUS_OK);
+    ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, ReplyStatus::kOk);
     TestRequest vel("a", 2, "track_velocity");
     vel.msg.duration = 1.0;
     const ReplyContent r = handler.Handle(vel.msg, 0.0, 0).value_or(ReplyContent{});
-    EXPECT_EQ(r.status, flsd_msgs_STATUS_NOT_AVAILABLE);
+    EXPECT_EQ(r.status, ReplyStatus::kNotAvailable);
     EXPECT_THAT(r.message, HasSubstr("has no skill selector"));
     EXPECT_THROW(HierarchicalPolicy{library}, InputError);
   }
@@ -267,12 +267,12 @@ TEST(RequestHandlerSelector, WithoutALearnedSelectorTheNearestSkillOneServesUnle
   ASSERT_TRUE(controller.has_selector());
   EXPECT_EQ(controller.selector()->kind(), SelectorKind::kNearestSkill);
   RequestHandler handler(controller, config);
-  ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, ReplyStatus::kOk);
   TestRequest vel("a", 2, "track_velocity");
   vel.msg.duration = 1.0;
   vel.msg.velocity[0] = 5.0;
   const ReplyContent r = handler.Handle(vel.msg, 0.0, 0).value_or(ReplyContent{});
-  EXPECT_EQ(r.status, flsd_msgs_STATUS_OK) << r.message;
+  EXPECT_EQ(r.status, ReplyStatus::kOk) << r.message;
   EXPECT_THAT(r.message, HasSubstr("vx clipped to"));
   EXPECT_THAT(r.message, HasSubstr("the edge of the nearest_skill selector's range"));
   std::remove(path.c_str());
@@ -288,47 +288,47 @@ TEST(RequestHandlerSelector, AnUnknownSelectorInTheServerConfigIsNamed) {
 
 TEST_F(RequestHandlerTest, UnknownCallsAndBadClientIdsAreAnswered) {
   const ReplyContent r = Send("a", "fly");
-  EXPECT_EQ(r.status, flsd_msgs_STATUS_UNKNOWN_CALL);
+  EXPECT_EQ(r.status, ReplyStatus::kUnknownCall);
   EXPECT_THAT(r.message, HasSubstr("unknown call 'fly'; known calls: list_skills"));
-  EXPECT_EQ(Send("", "status").status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_EQ(Send("", "status").status, ReplyStatus::kInvalidArgument);
   EXPECT_THAT(Send(std::string(64, 'x'), "status").message, HasSubstr("1 to 63 characters"));
 }
 
 TEST_F(RequestHandlerTest, RepeatedOrOldRequestIdsAreNotExecuted) {
   TestRequest first("a", 10, "acquire_control");
-  ASSERT_EQ(handler_.Handle(first.msg, 0.0, kWallNow)->status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(handler_.Handle(first.msg, 0.0, kWallNow)->status, ReplyStatus::kOk);
   TestRequest again("a", 10, "stand");
   const ReplyContent r = *handler_.Handle(again.msg, 0.1, kWallNow);
-  EXPECT_EQ(r.status, flsd_msgs_STATUS_DUPLICATE);
+  EXPECT_EQ(r.status, ReplyStatus::kDuplicate);
   EXPECT_THAT(r.message, HasSubstr("request_id 10 is not above 10"));
   TestRequest older("a", 9, "stand");
-  EXPECT_EQ(handler_.Handle(older.msg, 0.2, kWallNow)->status, flsd_msgs_STATUS_DUPLICATE);
+  EXPECT_EQ(handler_.Handle(older.msg, 0.2, kWallNow)->status, ReplyStatus::kDuplicate);
   TestRequest other("b", 10, "status");  // ids are per client
-  EXPECT_EQ(handler_.Handle(other.msg, 0.3, kWallNow)->status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(handler_.Handle(other.msg, 0.3, kWallNow)->status, ReplyStatus::kOk);
 }
 
 TEST_F(RequestHandlerTest, AForgottenClientCannotReplayItsRequests) {
   TestRequest first("e", 777, "status");
-  ASSERT_EQ(handler_.Handle(first.msg, 0.0, kWallNow)->status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(handler_.Handle(first.msg, 0.0, kWallNow)->status, ReplyStatus::kOk);
   for (std::size_t i = 0; i < RequestHandler::kMaxClients + 44; ++i) {  // E is forgotten
     // Ids from a clock, as flsd::Client takes them: a newcomer's clear any forgotten client's.
     TestRequest other("other-" + std::to_string(i), 1000 + i, "status");
-    ASSERT_EQ(handler_.Handle(other.msg, 0.001 * (i + 1), kWallNow)->status, flsd_msgs_STATUS_OK);
+    ASSERT_EQ(handler_.Handle(other.msg, 0.001 * (i + 1), kWallNow)->status, ReplyStatus::kOk);
   }
   TestRequest replay("e", 777, "status");
   const ReplyContent r = *handler_.Handle(replay.msg, 1.0, kWallNow);
-  EXPECT_EQ(r.status, flsd_msgs_STATUS_DUPLICATE);
+  EXPECT_EQ(r.status, ReplyStatus::kDuplicate);
   EXPECT_THAT(r.message, HasSubstr("request_id 777 is not above 777"));
   TestRequest next("e", 2000, "status");  // E goes on with later ids
-  EXPECT_EQ(handler_.Handle(next.msg, 1.1, kWallNow)->status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(handler_.Handle(next.msg, 1.1, kWallNow)->status, ReplyStatus::kOk);
 }
 
 TEST_F(RequestHandlerTest, RequestsPastTheirDeadlineAreNotExecuted) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
   TestRequest late("a", 100, "stand");
   late.msg.header.deadline_ns = kWallNow - 250'000'000;
   const ReplyContent r = *handler_.Handle(late.msg, 0.1, kWallNow);
-  EXPECT_EQ(r.status, flsd_msgs_STATUS_DEADLINE_EXCEEDED);
+  EXPECT_EQ(r.status, ReplyStatus::kDeadlineExceeded);
   EXPECT_THAT(r.message, HasSubstr("arrived 0.25 s after its deadline"));
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kIdle);
@@ -336,14 +336,14 @@ TEST_F(RequestHandlerTest, RequestsPastTheirDeadlineAreNotExecuted) {
   TestRequest ancient("a", 101, "stand");
   ancient.msg.header.deadline_ns = INT64_MIN;
   const ReplyContent refused = *handler_.Handle(ancient.msg, 0.2, kWallNow);
-  EXPECT_EQ(refused.status, flsd_msgs_STATUS_INVALID_ARGUMENT);
+  EXPECT_EQ(refused.status, ReplyStatus::kInvalidArgument);
   EXPECT_THAT(refused.message, HasSubstr("deadline_ns must be 0 (none) or a CLOCK_REALTIME time in ns, got -9223372036854775808"));
 }
 
 TEST_F(RequestHandlerTest, EveryRequestOfTheHolderRenewsTheLease) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
   for (double t = 0.5; t < 5.0; t += 0.5) {
-    EXPECT_EQ(Send("a", "status", t).status, flsd_msgs_STATUS_OK);
+    EXPECT_EQ(Send("a", "status", t).status, ReplyStatus::kOk);
     handler_.Poll(t + 0.49);
     EXPECT_EQ(handler_.controller_id(), "a") << t;
   }
@@ -359,14 +359,14 @@ TEST_F(RequestHandlerTest, AFloodIsDroppedAndCountedAndTheServerKeepsAnswering) 
   }
   EXPECT_EQ(answered, config_.request_burst);
   EXPECT_EQ(handler_.dropped(), 1000u - config_.request_burst);
-  EXPECT_EQ(Send("calm", "status", 5.0).status, flsd_msgs_STATUS_OK);  // others are unaffected
+  EXPECT_EQ(Send("calm", "status", 5.0).status, ReplyStatus::kOk);  // others are unaffected
   TestRequest later("flood", 1001, "status");  // a second later the bucket has refilled
   EXPECT_TRUE(handler_.Handle(later.msg, 6.0, kWallNow).has_value());
 }
 
 TEST_F(RequestHandlerTest, ASilentControllerLosesTheLeaseAndTheRobotStands) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
-  ASSERT_EQ(Skill("a", 0, 30.0, 0.0).status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  ASSERT_EQ(Skill("a", 0, 30.0, 0.0).status, ReplyStatus::kOk);
   for (int i = 0; i < 150; ++i) controller_.Tick();  // rise, settle, start the skill
   ASSERT_EQ(controller_.status().mode, Mode::kSkill);
   handler_.Poll(0.9);
@@ -379,12 +379,12 @@ TEST_F(RequestHandlerTest, ASilentControllerLosesTheLeaseAndTheRobotStands) {
   EXPECT_EQ(s.task.state, TaskState::kLeaseLost);
   EXPECT_THAT(s.task.message.data(), HasSubstr("control lease of a lapsed"));
   EXPECT_EQ(handler_.controller_id(), "");
-  EXPECT_EQ(Send("b", "acquire_control", 1.1).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("b", "acquire_control", 1.1).status, ReplyStatus::kOk);
 }
 
 TEST_F(RequestHandlerTest, StandIsRefusedWhileTheRobotLiesOnItsSide) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
-  ASSERT_EQ(Send("a", "stand").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  ASSERT_EQ(Send("a", "stand").status, ReplyStatus::kOk);
   for (int i = 0; i < 150; ++i) controller_.Tick();
   mjData& d = backend_.env().data();
   d.qpos[backend_.env().index().root_qpos + 3] = std::cos(0.8);  // roll 1.6 rad
@@ -393,28 +393,28 @@ TEST_F(RequestHandlerTest, StandIsRefusedWhileTheRobotLiesOnItsSide) {
   controller_.Tick();
   ASSERT_EQ(controller_.status().mode, Mode::kDamp);
   const ReplyContent r = Send("a", "stand", 0.5);
-  EXPECT_EQ(r.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_EQ(r.status, ReplyStatus::kSafetyStop);
   EXPECT_THAT(r.message, HasSubstr("cannot stand: tilt"));
   EXPECT_THAT(r.message, HasSubstr("call reset"));
   // The trip is reported once, in the first reply after it, to each client.
   EXPECT_THAT(r.safety_report, HasSubstr("tilt"));
   EXPECT_EQ(Send("a", "status", 0.6).safety_report, "");
-  EXPECT_EQ(Send("a", "reset", 0.7).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("a", "reset", 0.7).status, ReplyStatus::kOk);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kStand);
 }
 
 TEST_F(RequestHandlerTest, AnEmergencyStopLatchesUntilItsPresserOrTheHoldTimeClearsIt) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
-  ASSERT_EQ(Send("a", "stand").status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  ASSERT_EQ(Send("a", "stand").status, ReplyStatus::kOk);
   RunFor(3.0);
   ASSERT_EQ(controller_.status().mode, Mode::kStand);
-  EXPECT_EQ(Send("b", "damp", 0.1).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("b", "damp", 0.1).status, ReplyStatus::kOk);
   controller_.Tick();
   ASSERT_EQ(controller_.status().mode, Mode::kDamp);
   // The holder's next stand does not undo it, on either side of the queue.
   const ReplyContent stand = Send("a", "stand", 0.12);
-  EXPECT_EQ(stand.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_EQ(stand.status, ReplyStatus::kSafetyStop);
   EXPECT_THAT(stand.message, HasSubstr("an emergency stop from b is latched; call clear_stop"));
   ControlRequest raced;
   raced.kind = ControlRequest::Kind::kStand;
@@ -422,35 +422,35 @@ TEST_F(RequestHandlerTest, AnEmergencyStopLatchesUntilItsPresserOrTheHoldTimeCle
   RunFor(0.5);
   EXPECT_EQ(controller_.status().mode, Mode::kDamp);
   const ReplyContent early = Send("a", "clear_stop", 0.2);
-  EXPECT_EQ(early.status, flsd_msgs_STATUS_SAFETY_STOP);
+  EXPECT_EQ(early.status, ReplyStatus::kSafetyStop);
   EXPECT_THAT(early.message, HasSubstr("b may at once, any client after 10.00 s"));
   EXPECT_THAT(early.message, HasSubstr("left)"));
   // The presser may clear it at once; the robot stays damped until it is told to stand.
-  EXPECT_EQ(Send("b", "clear_stop", 0.3).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("b", "clear_stop", 0.3).status, ReplyStatus::kOk);
   RunFor(0.5);
   EXPECT_EQ(controller_.status().mode, Mode::kIdle);
   EXPECT_EQ(controller_.status().faults, 0u);
-  EXPECT_EQ(Send("a", "stand", 0.4).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("a", "stand", 0.4).status, ReplyStatus::kOk);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kStand);
 
   // Anyone may clear it once it has been held for stop_hold_time.
-  EXPECT_EQ(Send("b", "damp", 0.5).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("b", "damp", 0.5).status, ReplyStatus::kOk);
   RunFor(config_.safety.stop_hold_time + 0.1);
-  EXPECT_EQ(Send("a", "clear_stop", 0.6).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("a", "clear_stop", 0.6).status, ReplyStatus::kOk);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kIdle);
 }
 
 TEST_F(RequestHandlerTest, ReleasingControlStopsOnlyTheReleasersTask) {
-  ASSERT_EQ(Send("x", "acquire_control").status, flsd_msgs_STATUS_OK);
-  ASSERT_EQ(Skill("x", 0, 30.0).status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("x", "acquire_control").status, ReplyStatus::kOk);
+  ASSERT_EQ(Skill("x", 0, 30.0).status, ReplyStatus::kOk);
   RunFor(3.0);  // control time; the handler's clock stands still
   ASSERT_EQ(controller_.status().mode, Mode::kSkill);
   // Within one tick: X hands over, Y takes control and starts a skill of its own.
-  EXPECT_EQ(Send("x", "release_control", 0.5).status, flsd_msgs_STATUS_OK);
-  EXPECT_EQ(Send("y", "acquire_control", 0.501).status, flsd_msgs_STATUS_OK);
-  EXPECT_EQ(Skill("y", 1, 3.0, 0.502).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("x", "release_control", 0.5).status, ReplyStatus::kOk);
+  EXPECT_EQ(Send("y", "acquire_control", 0.501).status, ReplyStatus::kOk);
+  EXPECT_EQ(Skill("y", 1, 3.0, 0.502).status, ReplyStatus::kOk);
   controller_.Tick();
   const ControllerStatus s = controller_.status();
   EXPECT_EQ(s.task.state, TaskState::kRunning) << s.task.message.data();
@@ -462,15 +462,15 @@ TEST_F(RequestHandlerTest, ReleasingControlStopsOnlyTheReleasersTask) {
 }
 
 TEST_F(RequestHandlerTest, ReleasingControlStopsTheMotion) {
-  ASSERT_EQ(Send("a", "acquire_control").status, flsd_msgs_STATUS_OK);
-  ASSERT_EQ(Skill("a", 0, 30.0).status, flsd_msgs_STATUS_OK);
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  ASSERT_EQ(Skill("a", 0, 30.0).status, ReplyStatus::kOk);
   for (int i = 0; i < 150; ++i) controller_.Tick();
   ASSERT_EQ(controller_.status().mode, Mode::kSkill);
-  EXPECT_EQ(Send("a", "release_control", 0.5).status, flsd_msgs_STATUS_OK);
+  EXPECT_EQ(Send("a", "release_control", 0.5).status, ReplyStatus::kOk);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kStand);
   EXPECT_EQ(controller_.status().task.state, TaskState::kCancelled);
-  EXPECT_EQ(Send("a", "release_control", 0.6).status, flsd_msgs_STATUS_NOT_IN_CONTROL);
+  EXPECT_EQ(Send("a", "release_control", 0.6).status, ReplyStatus::kNotInControl);
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ nlohmann::json Track(Client& client, const TrackingCase& c, const VelBenchOption
   result["reply"] = task.reply().message;  // says so when the command was clipped to the library's envelope
   std::array<double, 3> sum{};
   int samples = 0;
-  bool fell = false;
+  bool tripped = false;  // a safety stop: a fall, or a limit broken
   uint64_t tick = 0;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.seconds + 10.0);
   while (!task.Done() && std::chrono::steady_clock::now() < give_up) {
@@ -35,7 +35,7 @@ nlohmann::json Track(Client& client, const TrackingCase& c, const VelBenchOption
     if (!state) continue;
     tick = state->tick;
     if (state->task.request_id != task.request_id()) continue;
-    fell = fell || state->faults != 0;
+    tripped = tripped || state->faults != 0;
     if (state->mode != Mode::kVelocity || state->task.elapsed < options.settle_seconds) continue;
     sum[0] += state->linear_velocity[0];
     sum[1] += state->linear_velocity[1];
@@ -46,7 +46,7 @@ nlohmann::json Track(Client& client, const TrackingCase& c, const VelBenchOption
   client.Stop();
   result["outcome"] = Name(report.state);
   result["message"] = report.message;
-  result["fell"] = fell || report.state == TaskState::kSafetyStop;
+  result["safety_stop"] = tripped || report.state == TaskState::kSafetyStop;
   if (samples == 0) return result;
   const std::array<double, 3> achieved = {sum[0] / samples, sum[1] / samples, sum[2] / samples};
   const double lin_error = std::hypot(achieved[0] - c.command[0], achieved[1] - c.command[1]);
@@ -69,7 +69,7 @@ nlohmann::json RunVelBenchmark(const VelBenchOptions& options) {
   const std::unique_ptr<Client> client = skilld.Connect();
   nlohmann::json cases = nlohmann::json::array();
   double lin2 = 0.0, ang2 = 0.0;
-  int measured = 0, held = 0, falls = 0;
+  int measured = 0, held = 0, safety_stops = 0;
   for (const TrackingCase& c : StandardTrackingCases()) {
     nlohmann::json result = Track(*client, c, options);
     if (result.contains("lin_error")) {
@@ -78,7 +78,7 @@ nlohmann::json RunVelBenchmark(const VelBenchOptions& options) {
       ++measured;
       held += result["holds"].get<bool>();
     }
-    falls += result.value("fell", false);
+    safety_stops += result.value("safety_stop", false);
     cases.push_back(std::move(result));
   }
   const int count = static_cast<int>(cases.size());
@@ -90,7 +90,7 @@ nlohmann::json RunVelBenchmark(const VelBenchOptions& options) {
           {"measured", measured},
           {"rms_lin_error", measured > 0 ? nlohmann::json(std::sqrt(lin2 / measured)) : nlohmann::json()},
           {"rms_ang_error", measured > 0 ? nlohmann::json(std::sqrt(ang2 / measured)) : nlohmann::json()},
-          {"falls", falls},
+          {"safety_stops", safety_stops},
           {"held", held},
           {"held_ratio", static_cast<double>(held) / count},
           {"tolerance", {{"lin", kLinearTolerance}, {"ang", kAngularTolerance}}},

@@ -16,8 +16,8 @@ struct VelBenchOptions {
 // backward, left, right, turn left, turn right, forward while turning) sent to a real skilld
 // (simulated A1, the library and the selector it serves) as `track_velocity` calls, each from a
 // fresh reset. The achieved velocity is the mean body velocity on the state topic after the settle
-// time. Per command the errors; over them the RMS errors, the falls, and how many commands hold
-// within 0.2 m/s and 0.3 rad/s.
+// time. Per command the errors; over them the RMS errors, the safety stops, and how many commands
+// hold within 0.2 m/s and 0.3 rad/s.
 nlohmann::json RunVelBenchmark(const VelBenchOptions& options);
 
 }  // namespace flsd

@@ -49,13 +49,12 @@ nlohmann::json Track(Client& client, const TrackingCase& c, const VelBenchOption
   result["safety_stop"] = tripped || report.state == TaskState::kSafetyStop;
   if (samples == 0) return result;
   const std::array<double, 3> achieved = {sum[0] / samples, sum[1] / samples, sum[2] / samples};
-  const double lin_error = std::hypot(achieved[0] - c.command[0], achieved[1] - c.command[1]);
-  const double ang_error = std::abs(achieved[2] - c.command[2]);
+  const TrackingError error = TrackingErrorOf(achieved, c.command);
   result["achieved"] = achieved;
   result["samples"] = samples;
-  result["lin_error"] = lin_error;
-  result["ang_error"] = ang_error;
-  result["holds"] = lin_error <= kLinearTolerance && ang_error <= kAngularTolerance;
+  result["lin_error"] = error.lin;
+  result["ang_error"] = error.ang;
+  result["holds"] = error.lin <= kLinearTolerance && error.ang <= kAngularTolerance;
   return result;
 }
 

@@ -16,6 +16,10 @@ std::vector<TrackingCase> StandardTrackingCases() {
           {"turn_right", {0.0, 0.0, -1.0}}, {"forward_turning", {0.5, 0.0, 0.5}}};
 }
 
+TrackingError TrackingErrorOf(const std::array<double, 3>& achieved, const std::array<double, 3>& command) {
+  return {std::hypot(achieved[0] - command[0], achieved[1] - command[1]), std::abs(achieved[2] - command[2])};
+}
+
 TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env_config, double seconds,
                                     double settle_seconds, uint64_t seed, SelectorKind selector) {
   EnvConfig config = env_config;
@@ -66,9 +70,9 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
     }
     if (measured > 0) sum /= measured;
     r.achieved = {sum.x(), sum.y(), sum.z()};
-    // Against what was asked: a selector that clips a command it cannot follow still misses it.
-    r.lin_error = std::hypot(sum.x() - c.command[0], sum.y() - c.command[1]);
-    r.ang_error = std::abs(sum.z() - c.command[2]);
+    const TrackingError error = TrackingErrorOf(r.achieved, c.command);
+    r.lin_error = error.lin;
+    r.ang_error = error.ang;
     r.skills_used = static_cast<int>(used.size());
     r.switches_per_s = switches / (r.steps * a1::kControlDt);
     lin2 += r.lin_error * r.lin_error;

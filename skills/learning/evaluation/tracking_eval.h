@@ -21,6 +21,13 @@ struct TrackingCase {
 // Stand, forward, backward, left, right, turn left, turn right, forward while turning.
 std::vector<TrackingCase> StandardTrackingCases();
 
+// How far an achieved mean velocity (vx, vy, wz) is from the command: |error| in xy (m/s), and in
+// wz (rad/s). Against what was asked: a selector that clips a command it cannot follow still misses it.
+struct TrackingError {
+  double lin = 0.0, ang = 0.0;
+};
+TrackingError TrackingErrorOf(const std::array<double, 3>& achieved, const std::array<double, 3>& command);
+
 struct TrackingResult {
   TrackingCase tracked;                  // the command after clipping to the trained ranges
   std::array<double, 3> achieved{};      // mean body velocity after the settling time

@@ -55,7 +55,8 @@ void PolicyLearner::CountIteration(long job_steps) {
   env_steps_ += job_steps;
 }
 
-void PolicyLearner::Write(torch::serialize::OutputArchive& archive) const {
+void PolicyLearner::Write(torch::serialize::OutputArchive& archive, const std::vector<Rng>& env_streams,
+                          const char* key) const {
   WriteModule(archive, "policy", *policy_);
   WriteModule(archive, "normalizer", *normalizer_);
   WriteOptimizer(archive, "policy_optimizer", ppo_.optimizer());
@@ -64,9 +65,11 @@ void PolicyLearner::Write(torch::serialize::OutputArchive& archive) const {
   archive.write("learning_rate", c10::IValue(ppo_.learning_rate()));
   archive.write("ranks", c10::IValue(static_cast<int64_t>(comm_.size())));
   WriteTorchRng(archive);
+  archive.write(key, c10::IValue(RngState(env_streams)));
 }
 
-bool PolicyLearner::Read(torch::serialize::InputArchive& archive) {
+void PolicyLearner::Read(torch::serialize::InputArchive& archive, std::vector<Rng>& env_streams, const char* key,
+                         uint64_t streams_seed, int first_env) {
   ReadPolicyParts(archive, *policy_, *normalizer_, iteration_, env_steps_);
   ReadOptimizer(archive, "policy_optimizer", ppo_.optimizer());
   ppo_.set_learning_rate(ReadDouble(archive, "learning_rate"));
@@ -74,11 +77,14 @@ bool PolicyLearner::Read(torch::serialize::InputArchive& archive) {
   archive.try_read("ranks", ranks);
   if (comm_.size() == 1 && ranks.toInt() == 1) {
     ReadTorchRng(archive);
-    return true;
+    RestoreRngState(ReadString(archive, key), env_streams, key);
+    return;
   }
   // The saved state is the leader's alone: every rank draws afresh for this layout.
   torch::manual_seed(StreamSeed(StreamSeed(seed_, comm_.rank()), iteration_));
-  return false;
+  for (size_t i = 0; i < env_streams.size(); ++i) {
+    env_streams[i].seed(StreamSeed(StreamSeed(streams_seed, first_env + i), iteration_));
+  }
 }
 
 void ReadPolicyParts(torch::serialize::InputArchive& archive, torch::nn::Module& policy, torch::nn::Module& normalizer,

@@ -8,6 +8,9 @@
 #include <torch/torch.h>
 
 #include <memory>
+#include <vector>
+
+#include "core/rng.h"
 
 #include "skills/learning/networks/actor_critic.h"
 #include "skills/learning/runners/communicator.h"
@@ -59,12 +62,14 @@ class PolicyLearner {
   long env_steps() const { return env_steps_; }
 
   // The learner's part of a checkpoint: policy, normaliser, optimiser, counters, learning rate,
-  // rank count and libtorch's random state.
-  void Write(torch::serialize::OutputArchive& archive) const;
-  // Reads it back. Returns whether the random streams were restored: only one process resuming a
-  // one-process checkpoint can take them over. Otherwise libtorch's generator is reseeded from the
-  // seed, the rank and the iteration, and the trainer reseeds its own streams likewise.
-  bool Read(torch::serialize::InputArchive& archive);
+  // rank count and libtorch's random state; and the trainer's per-env random streams under `key`.
+  void Write(torch::serialize::OutputArchive& archive, const std::vector<Rng>& env_streams, const char* key) const;
+  // Reads it back. The random streams are taken over only by one process resuming a one-process
+  // checkpoint. Otherwise each rank draws afresh for this layout: libtorch's generator from the
+  // seed, the rank and the iteration, and env i of the job's envs [first_env, ...) from
+  // StreamSeed(streams_seed, first_env + i) and the iteration.
+  void Read(torch::serialize::InputArchive& archive, std::vector<Rng>& env_streams, const char* key,
+            uint64_t streams_seed, int first_env);
 
  private:
   std::shared_ptr<PpoPolicyImpl> policy_;

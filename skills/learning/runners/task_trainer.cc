@@ -305,10 +305,9 @@ TaskIterationStats TaskTrainer::RunIteration() {
 
 void TaskTrainer::SaveCheckpoint(const std::string& path) const {
   torch::serialize::OutputArchive archive;
-  learner_.Write(archive);
+  learner_.Write(archive, task_.command_rngs(), "command_rng");
   archive.write("config", c10::IValue(ToYamlString(config_)));
   archive.write("library_fingerprint", c10::IValue(library_ ? library_->fingerprint() : std::string()));
-  archive.write("command_rng", c10::IValue(RngState(task_.command_rngs())));
   WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
 }
 
@@ -320,16 +319,8 @@ void TaskTrainer::LoadCheckpoint(const std::string& path) {
       throw InputError("the selector was trained over a library with fingerprint " + fingerprint + ", but " +
                        library_->path() + " has " + library_->fingerprint() + " (it changed since)");
     }
-    if (learner_.Read(archive)) {
-      RestoreRngState(ReadString(archive, "command_rng"), task_.command_rngs(), "command");
-    } else {
-      const int first = comm_.rank() * num_envs_;
-      std::vector<Rng>& streams = task_.command_rngs();
-      for (int i = 0; i < num_envs_; ++i) {
-        streams[i].seed(
-            StreamSeed(StreamSeed(config_.seed + VelocityTask::kCommandStream, first + i), learner_.iteration()));
-      }
-    }
+    learner_.Read(archive, task_.command_rngs(), "command_rng", config_.seed + VelocityTask::kCommandStream,
+                  comm_.rank() * num_envs_);
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(path, e);
   } catch (const InputError& e) {

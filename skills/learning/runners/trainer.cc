@@ -436,13 +436,12 @@ IterationStats Trainer::RunIteration() {
 
 void Trainer::SaveCheckpoint(const std::string& path) const {
   torch::serialize::OutputArchive archive;
-  learner_.Write(archive);
+  learner_.Write(archive, skill_rng_, "skill_rng");
   WriteModule(archive, "pae", *pae_);
   WriteModule(archive, "discriminator", *discriminator_);
   WriteOptimizer(archive, "pae_optimizer", pae_optimizer_);
   WriteOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
   archive.write("config", c10::IValue(ToYamlString(config_)));
-  archive.write("skill_rng", c10::IValue(RngState(skill_rng_)));
   archive.write("constraint_scales", c10::IValue(constraint_terminations_.State()));
   WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
 }
@@ -466,7 +465,7 @@ TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& ch
 void Trainer::LoadCheckpoint(const std::string& path) {
   torch::serialize::InputArchive archive = OpenCheckpoint(path);
   try {
-    const bool streams_restored = learner_.Read(archive);
+    learner_.Read(archive, skill_rng_, "skill_rng", config_.seed + kSkillStream, comm_.rank() * num_envs_);
     ReadModule(archive, "pae", *pae_);
     ReadModule(archive, "discriminator", *discriminator_);
     ReadOptimizer(archive, "pae_optimizer", pae_optimizer_);
@@ -474,14 +473,6 @@ void Trainer::LoadCheckpoint(const std::string& path) {
     c10::IValue scales{std::string()};  // checkpoints from before constraints as terminations
     if (archive.try_read("constraint_scales", scales) && !scales.toStringRef().empty()) {
       constraint_terminations_.Restore(scales.toStringRef(), path);
-    }
-    if (streams_restored) {
-      RestoreRngState(ReadString(archive, "skill_rng"), skill_rng_, "skill");
-    } else {
-      const int first = comm_.rank() * num_envs_;
-      for (int i = 0; i < num_envs_; ++i) {
-        skill_rng_[i].seed(StreamSeed(StreamSeed(config_.seed + kSkillStream, first + i), learner_.iteration()));
-      }
     }
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(path, e);

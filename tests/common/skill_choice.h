@@ -3,6 +3,7 @@
 // which change with every library shipped.
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "skills/runtime/skill_library.h"
@@ -22,6 +23,19 @@ inline std::vector<int> FastestSurvivingSkills(const SkillLibrary& library, int 
   std::vector<int> ids;
   for (int k = 0; k < n && k < static_cast<int>(skills.size()); ++k) ids.push_back(skills[k]->id);
   return ids;
+}
+
+// The surviving skill that moves (at least 0.2 m/s) with the least turning: a walk that does not
+// tip the robot on a loaded machine, as a spinner can. -1 if none moves.
+inline int StraightestMovingSkill(const SkillLibrary& library) {
+  int best = -1;
+  for (const SkillDescriptor& d : library.skills()) {
+    if (d.fell || d.mean_linear_velocity.head<2>().norm() < 0.2) continue;
+    if (best < 0 || std::abs(d.mean_angular_velocity.z()) < std::abs(library.skills()[best].mean_angular_velocity.z())) {
+      best = d.id;
+    }
+  }
+  return best;
 }
 
 }  // namespace flsd::testutil

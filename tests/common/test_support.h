@@ -15,6 +15,13 @@
 
 namespace flsd::testutil {
 
+// What a track_velocity reply says of an axis the selector clipped: "vx clipped to 0.87".
+inline std::string ClippedTo(const char* axis, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%s clipped to %.2f", axis, value);
+  return text;
+}
+
 // Runs `f` and returns the message of the InputError it throws; records a failure (and returns
 // "") if it throws nothing or something else, so that message checks on "" fail loudly too.
 template <class F>

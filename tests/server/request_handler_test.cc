@@ -161,8 +161,9 @@ TEST_F(RequestHandlerTest, VelocityOutsideTheTrainedRangeIsClippedAndTheReplySay
     m.duration = 1.0;
   });
   ASSERT_EQ(r.status, ReplyStatus::kOk) << r.message;
-  EXPECT_THAT(r.message, HasSubstr("vx clipped to 1.00"));
-  EXPECT_THAT(r.message, HasSubstr("wz clipped to -1.00"));
+  const std::array<std::array<double, 3>, 2> range = controller_.selector()->CommandRange();
+  EXPECT_THAT(r.message, HasSubstr(testutil::ClippedTo("vx", range[1][0])));
+  EXPECT_THAT(r.message, HasSubstr(testutil::ClippedTo("wz", range[0][2])));
   EXPECT_THAT(r.message, ::testing::Not(HasSubstr("vy clipped")));
   EXPECT_GT(RunFor(3.0, Mode::kVelocity), 0);
 }

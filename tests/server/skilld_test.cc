@@ -11,8 +11,10 @@
 #include <iterator>
 
 #include "comm/protocol.h"
+#include "skills/runtime/hierarchical_policy.h"
 #include "skills/runtime/skill_library.h"
 #include "tests/common/client_skilld_fixture.h"
+#include "tests/common/test_support.h"
 
 namespace flsd {
 namespace {
@@ -72,7 +74,9 @@ TEST_F(SkilldTest, TracksAVelocityCommandWithTheSelector) {
   args.duration = 3.0;
   const CallResult r = client->Call("track_velocity", args);
   ASSERT_TRUE(r.ok()) << r.Describe();
-  EXPECT_THAT(r.message, HasSubstr("vx clipped to 1.00"));
+  const SkillLibrary library = SkillLibrary::Load(FLSD_SOURCE_DIR "/models/a1_flsd.safetensors");
+  const HierarchicalPolicy served(library, library.selector() ? SelectorKind::kLearned : SelectorKind::kNearestSkill);
+  EXPECT_THAT(r.message, HasSubstr(testutil::ClippedTo("vx", served.CommandRange()[1][0])));
   const auto walking = client->WaitForState(
       [](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_VELOCITY && s.msg.skill >= 0; }, 10s);
   ASSERT_TRUE(walking) << "the velocity task did not start";

@@ -1,8 +1,7 @@
-// The libraries in models/. The one make demo and skilld ship (a1_flsd.safetensors) loads with its
-// selector; it and the mirror-symmetric one (a1_flsd_symmetric.safetensors) each keep the simulated
-// A1 up for 10 s with their three fastest skills, run as skilld runs them (PolicyRunner, Eigen, the
-// library's target filter) on the nominal robot from its default pose, within the limits of
-// skilld's supervisor. The symmetric one's skills are mirror images in pairs.
+// The library make demo and skilld ship (models/a1_flsd.safetensors) keeps the simulated A1 up for
+// 10 s with its three fastest skills, run as skilld runs them (PolicyRunner, Eigen, the library's
+// target filter) on the nominal robot from its default pose, within the limits of skilld's
+// supervisor; its skills are mirror images in pairs.
 
 #include <gtest/gtest.h>
 
@@ -55,22 +54,15 @@ void ExpectThreeFastestSkillsKeepTheRobotUpFor10s(const SkillLibrary& library) {
   }
 }
 
-TEST(ShippedLibrary, LoadsWithItsSelectorAndThreeSkillsKeepTheRobotUpFor10s) {
-  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
-  ASSERT_TRUE(library.selector().has_value()) << "the shipped library has no skill selector";
-  ExpectThreeFastestSkillsKeepTheRobotUpFor10s(library);
-}
-
-TEST(SymmetricLibrary, ThreeSkillsKeepTheRobotUpFor10s) {
-  ExpectThreeFastestSkillsKeepTheRobotUpFor10s(
-      SkillLibrary::Load(ResolveDataPath("models/a1_flsd_symmetric.safetensors")));
+TEST(ShippedLibrary, ThreeSkillsKeepTheRobotUpFor10s) {
+  ExpectThreeFastestSkillsKeepTheRobotUpFor10s(SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors")));
 }
 
 // Skill k and its pair, as the library's evaluation measured them: the same forward speed, and
 // sideways speed and turn rate of opposite signs, to 0.08 (a self-paired skill goes straight, to
 // 0.04 m/s and rad/s).
-TEST(SymmetricLibrary, PairsMoveAsMirrorImages) {
-  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd_symmetric.safetensors"));
+TEST(ShippedLibrary, PairsMoveAsMirrorImages) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
   int pairs = 0;
   for (const SkillDescriptor& d : library.skills()) {
     const SkillDescriptor& m = library.skills()[d.mirror_skill];

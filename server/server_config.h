@@ -27,8 +27,9 @@ struct SafetyConfig {
   double damping_kd = 1.0;             // N m s / rad of the damped (safe) command
   // s after which any client may clear an emergency stop; before, only the client that pressed it.
   double stop_hold_time = 10.0;
-  // Skills that fell sooner than this in the library's own evaluation (steps of 20 ms) are
-  // refused: an unsupervised skill can be one that throws the robot down. 0 allows all.
+  // Skills that fell sooner than this in the library's own evaluation, or in its randomised one
+  // (steps of 20 ms), are refused: an unsupervised skill can be one that throws the robot down.
+  // 0 allows all.
   int min_skill_survival = 500;
   template <class V>
   void Visit(V& v) {

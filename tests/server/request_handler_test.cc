@@ -128,8 +128,9 @@ TEST_F(RequestHandlerTest, BadArgumentsAreRefusedWithTheReason) {
             ReplyStatus::kInvalidArgument);
 }
 
-TEST(RequestHandlerSkills, SkillsThatFellInEvaluationAreRefused) {
-  // A library whose skill 1 fell after 9 steps in its evaluation.
+TEST(RequestHandlerSkills, SkillsThatFellSoonInEitherEvaluationAreRefused) {
+  // A library whose skill 1 fell after 9 steps in its evaluation, and whose skill 2 fell under
+  // randomisation.
   SkillLibrary library = testutil::ShippedLibrary();
   ASSERT_GT(library.num_skills(), 1);
   ServerConfig config;
@@ -151,6 +152,15 @@ TEST(RequestHandlerSkills, SkillsThatFellInEvaluationAreRefused) {
   const ReplyContent r = call(3, "execute_skill", 1);
   EXPECT_EQ(r.status, ReplyStatus::kNotAvailable);
   EXPECT_THAT(r.message, HasSubstr("skill 1 fell after 9 steps in the library's evaluation"));
+  // Under randomisation, the real robot's case: soon is refused, late is run.
+  auto& pushed = const_cast<SkillDescriptor&>(library.skills()[2]);
+  pushed.randomized_fell = true;
+  pushed.randomized_survival_steps = 4;
+  const ReplyContent soon = call(4, "execute_skill", 2);
+  EXPECT_EQ(soon.status, ReplyStatus::kNotAvailable);
+  EXPECT_THAT(soon.message, HasSubstr("skill 2 fell after 4 steps in the library's randomised evaluation"));
+  pushed.randomized_survival_steps = 783;
+  EXPECT_EQ(call(5, "execute_skill", 2).status, ReplyStatus::kOk);
 }
 
 TEST_F(RequestHandlerTest, VelocityOutsideTheTrainedRangeIsClippedAndTheReplySaysSo) {

@@ -38,6 +38,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   eval_cmd->add_flag("--randomize", eval->options.randomize, "Keep the training randomisation on");
   eval_cmd->add_option("--steps", eval->options.steps, "Steps per skill (default: the episode length)")
       ->check(CLI::Range(1, 1000000));
+  eval_cmd->add_option("--seed", eval->options.seed, "Seed of the starts and the randomisation (default: 1)");
   eval_cmd->add_flag("--json", eval->json, "Print the whole JSON (default: a summary)");
   eval_cmd->add_option("--iteration", eval->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
   out.push_back({eval_cmd, [eval] {

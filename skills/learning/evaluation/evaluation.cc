@@ -138,6 +138,25 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
   return eval;
 }
 
+Evaluation EvaluateWorstOfStarts(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
+                                 const EvaluationOptions& options, int starts) {
+  Evaluation worst = EvaluateSkills(config, policy, normalizer, options);
+  worst.starts = starts;
+  for (int n = 1; n < starts; ++n) {
+    EvaluationOptions other = options;
+    other.seed = options.seed + static_cast<uint64_t>(n);
+    const Evaluation e = EvaluateSkills(config, policy, normalizer, other);
+    for (std::size_t k = 0; k < worst.skills.size(); ++k) {
+      SkillSummary& s = worst.skills[k];
+      s.survival_steps = std::min(s.survival_steps, e.skills[k].survival_steps);
+      s.fell = s.fell || e.skills[k].fell;
+    }
+  }
+  worst.survivors = 0;
+  for (const SkillSummary& s : worst.skills) worst.survivors += Survives(s.survival_steps);
+  return worst;
+}
+
 nlohmann::json EvaluationJson(const Evaluation& e) {
   nlohmann::json coverage_dims = nlohmann::json::array();
   for (int d = 0; d < kCoverageDims; ++d) {
@@ -181,6 +200,7 @@ nlohmann::json EvaluationJson(const Evaluation& e) {
       {"method", e.method},
       {"steps_per_skill", e.steps},
       {"randomized", e.randomized},
+      {"starts_per_skill", e.starts},
       {"num_skills", e.skills.size()},
       {"skills_surviving_500_steps", e.survivors},
       {"state_coverage",

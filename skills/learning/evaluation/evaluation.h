@@ -23,6 +23,12 @@ struct EvaluationOptions {
 Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
                           const EvaluationOptions& options);
 
+// EvaluateSkills from `starts` seeds (options.seed, options.seed + 1, ...): the first one's
+// record, with each skill's survival the shortest of all its starts, and fell if it fell in any.
+// One randomised start per skill misses skills that fall one time in three.
+Evaluation EvaluateWorstOfStarts(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
+                                 const EvaluationOptions& options, int starts);
+
 nlohmann::json EvaluationJson(const Evaluation& evaluation);
 // One row per skill: survival, mean velocities, height, gait frequency, high-frequency ratio.
 std::string SkillSummaryCsv(const Evaluation& evaluation);

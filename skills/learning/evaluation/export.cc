@@ -115,7 +115,8 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, in
   const Evaluation evaluation = EvaluateSkills(config, policy.policy, policy.normalizer, EvaluationOptions{});
   EvaluationOptions randomize;
   randomize.randomize = true;
-  const Evaluation randomized = EvaluateSkills(config, policy.policy, policy.normalizer, randomize);
+  const Evaluation randomized =
+      EvaluateWorstOfStarts(config, policy.policy, policy.normalizer, randomize, kRandomizedStarts);
   const ExportProvenance provenance{run_dir, ReadCommits((fs::path(run_dir) / "commits").string()), FLSD_GIT_COMMIT};
   WriteSkillLibrary(path, config, policy, evaluation, randomized, provenance);
   return {{"library", path},

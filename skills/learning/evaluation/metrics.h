@@ -110,6 +110,7 @@ struct Evaluation {
   std::string method;
   int steps = 0;
   bool randomized = false;
+  int starts = 1;  // per skill; survival and falls are the worst of them (EvaluateWorstOfStarts)
   std::vector<SkillTrajectory> trajectories;  // one per skill, up to its first termination
   std::vector<SkillSummary> skills;
   std::vector<int> mirror_skill;  // per skill, the skill trained as its mirror image (itself if none)

@@ -384,6 +384,31 @@ TEST_F(TrainingRun, EvaluationRecordsOneEpisodePerSkill) {
   EXPECT_GT(checked, 0) << "no skill stood for 40 steps: nothing was checked";
 }
 
+// The worst of three randomised starts is, per skill, the shortest survival of the three
+// evaluations run one by one from those seeds, and a fall in any; the rest is the first's.
+TEST_F(TrainingRun, WorstOfStartsKeepsEachSkillsShortestSurvival) {
+  const TrainConfig config = SmokeConfig();
+  Trainer trainer(config);
+  EvaluationOptions options{true, 500, 5};
+  const Evaluation worst = EvaluateWorstOfStarts(config, trainer.policy(), trainer.normalizer(), options, 3);
+  EXPECT_EQ(worst.starts, 3);
+  std::vector<Evaluation> each;
+  for (uint64_t seed : {5, 6, 7}) {
+    options.seed = seed;
+    each.push_back(EvaluateSkills(config, trainer.policy(), trainer.normalizer(), options));
+  }
+  bool differ = false;
+  for (int k = 0; k < config.num_skills; ++k) {
+    const int shortest = std::min({each[0].skills[k].survival_steps, each[1].skills[k].survival_steps,
+                                   each[2].skills[k].survival_steps});
+    EXPECT_EQ(worst.skills[k].survival_steps, shortest) << "skill " << k;
+    EXPECT_EQ(worst.skills[k].fell, each[0].skills[k].fell || each[1].skills[k].fell || each[2].skills[k].fell);
+    EXPECT_EQ(worst.skills[k].mean_base_height, each[0].skills[k].mean_base_height);
+    differ |= shortest != each[0].skills[k].survival_steps;
+  }
+  EXPECT_TRUE(differ) << "an untrained policy should fall sooner from some start: nothing was checked";
+}
+
 TEST(ParseIteration, TakesOneToNineDigitsAndNothingElse) {
   EXPECT_EQ(ParseIteration("4125"), 4125);
   EXPECT_EQ(ParseIteration("999999999"), 999999999);

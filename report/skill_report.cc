@@ -231,7 +231,7 @@ std::string TableTwoHtml(const std::vector<ReportRun>& runs) {
   std::ostringstream h;
   h << "<table>\n"
     << Row({"run", "pooled ratio (> 10 Hz)", "per-skill mean", "per-skill std", "survivors (of skills)",
-            "with randomisation", "both",
+            "with randomisation (worst of its starts)", "both",
             "survivors skilld runs (" + Fixed(a1::kJointVelocityLimit, 0) + " rad/s for at most " +
                 Fixed(a1::kJointOverspeedTolerance, 2) + " s)"},
            true);
@@ -267,7 +267,7 @@ std::string SkillsHtml(const ReportRun& r) {
     << "<p>Task columns: legged_gym's velocity-tracking reward per second (A1 scales, unclipped) when the "
        "skill is commanded its own mean velocity; tracking is its two tracking terms, reward the sum of all "
        "terms, penalties included: what a skill selector could at best collect from the skill.</p>\n<table>\n"
-    << Row({"skill", "steps", "with randomisation", "v_x", "v_y", "w_z", "height", "gait Hz", "> 10 Hz ratio",
+    << Row({"skill", "steps", "with randomisation (worst start)", "v_x", "v_y", "w_z", "height", "gait Hz", "> 10 Hz ratio",
             "stance foot speed", "peak joint speed", "task tracking /s", "task reward /s"},
            true);
   for (size_t k = 0; k < r.nominal.skills.size(); ++k) {

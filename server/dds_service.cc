@@ -27,7 +27,8 @@ std::vector<flsd_msgs_SkillInfo> MakeSkillInfos(const SkillLibrary& library) {
     }
     info.base_height = d.mean_base_height;
     info.gait_frequency = d.gait_frequency_hz;
-    info.survival_steps = d.survival_steps;
+    const std::optional<SkillFall> fall = EarliestFall(d);
+    info.survival_steps = fall ? fall->steps : d.survival_steps;
     infos.push_back(info);
   }
   return infos;

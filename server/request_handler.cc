@@ -209,19 +209,14 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
       return Reply(ReplyStatus::kInvalidArgument, why);
     }
     const SkillDescriptor& skill = controller_.library().skills()[k];
-    const auto refuse = [&](int steps, const char* evaluation) {
+    // A real robot is the randomised case: a skill that fell there is as unsafe.
+    if (const std::optional<SkillFall> fall = EarliestFall(skill);
+        fall && fall->steps < config_.safety.min_skill_survival) {
       return Reply(ReplyStatus::kNotAvailable,
-                   "skill " + std::to_string(k) + " fell after " + std::to_string(steps) + " steps in the library's " +
-                       evaluation + " (fewer than safety.min_skill_survival = " +
-                       std::to_string(config_.safety.min_skill_survival) + "); it is not run");
-    };
-    if (skill.fell && skill.survival_steps < config_.safety.min_skill_survival) {
-      return refuse(skill.survival_steps, "evaluation");
-    }
-    // A real robot is the randomised case: a skill that falls there soon is as unsafe.
-    if (skill.randomized_fell && skill.randomized_survival_steps &&
-        *skill.randomized_survival_steps < config_.safety.min_skill_survival) {
-      return refuse(*skill.randomized_survival_steps, "randomised evaluation");
+                   "skill " + std::to_string(k) + " fell after " + std::to_string(fall->steps) + " steps in the library's " +
+                       (fall->randomized ? "randomised evaluation" : "evaluation") +
+                       " (fewer than safety.min_skill_survival = " + std::to_string(config_.safety.min_skill_survival) +
+                       "); it is not run");
     }
     if (const std::string blocked = MotionBlocked(status); !blocked.empty()) {
       return Reply(ReplyStatus::kSafetyStop, blocked);

@@ -11,10 +11,8 @@ namespace {
 
 // Survives its evaluation without falling, nominal and (where measured) randomised.
 bool Dependable(const SkillDescriptor& d) {
-  const bool nominal = !d.fell && Survives(d.survival_steps);
-  const bool randomized = !d.randomized_survival_steps ||
-                          (!d.randomized_fell && Survives(*d.randomized_survival_steps));
-  return nominal && randomized;
+  return !EarliestFall(d) && Survives(d.survival_steps) &&
+         (!d.randomized_survival_steps || Survives(*d.randomized_survival_steps));
 }
 
 }  // namespace

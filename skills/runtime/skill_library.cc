@@ -197,6 +197,16 @@ nlohmann::json DescriptorJson(const SkillDescriptor& descriptor) {
   return out;
 }
 
+std::optional<SkillFall> EarliestFall(const SkillDescriptor& d) {
+  std::optional<SkillFall> fall;
+  if (d.fell) fall = SkillFall{d.survival_steps, false};
+  if (d.randomized_fell) {
+    const int steps = d.randomized_survival_steps.value_or(0);
+    if (!fall || steps < fall->steps) fall = SkillFall{steps, true};
+  }
+  return fall;
+}
+
 SkillLibrary SkillLibrary::Load(const std::string& path) {
   const SafeTensors file = ReadSafeTensors(path);
   SkillLibrary lib;

@@ -50,6 +50,16 @@ struct SkillDescriptor {
 // A descriptor as the library's metadata stores it (its /skills/K entry).
 nlohmann::json DescriptorJson(const SkillDescriptor& descriptor);
 
+// A skill's earliest fall in the library's evaluations: after how many control steps, and whether
+// under randomisation. A randomised fall without a recorded count is at step 0.
+struct SkillFall {
+  int steps = 0;
+  bool randomized = false;
+};
+// std::nullopt if the skill fell in neither evaluation. skilld refuses a skill by it, lists it,
+// and picks velocity-command candidates from the skills without one.
+std::optional<SkillFall> EarliestFall(const SkillDescriptor& descriptor);
+
 using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 struct DenseLayer {

@@ -10,12 +10,12 @@
 
 namespace flsd::testutil {
 
-// The ids of the library's `n` fastest skills (planar speed) that did not fall in its evaluation,
-// fastest first; fewer when the library has fewer.
+// The ids of the library's `n` fastest skills (planar speed) that fell in neither of its
+// evaluations, fastest first; fewer when the library has fewer.
 inline std::vector<int> FastestSurvivingSkills(const SkillLibrary& library, int n) {
   std::vector<const SkillDescriptor*> skills;
   for (const SkillDescriptor& d : library.skills()) {
-    if (!d.fell) skills.push_back(&d);
+    if (!EarliestFall(d)) skills.push_back(&d);
   }
   std::sort(skills.begin(), skills.end(), [](const SkillDescriptor* a, const SkillDescriptor* b) {
     return a->mean_linear_velocity.head<2>().norm() > b->mean_linear_velocity.head<2>().norm();
@@ -25,12 +25,12 @@ inline std::vector<int> FastestSurvivingSkills(const SkillLibrary& library, int 
   return ids;
 }
 
-// The surviving skill that moves (at least 0.2 m/s) with the least turning: a walk that does not
-// tip the robot on a loaded machine, as a spinner can. -1 if none moves.
+// The skill that never fell and moves (at least 0.2 m/s) with the least turning: a walk that does
+// not tip the robot on a loaded machine, as a spinner can. -1 if none moves.
 inline int StraightestMovingSkill(const SkillLibrary& library) {
   int best = -1;
   for (const SkillDescriptor& d : library.skills()) {
-    if (d.fell || d.mean_linear_velocity.head<2>().norm() < 0.2) continue;
+    if (EarliestFall(d) || d.mean_linear_velocity.head<2>().norm() < 0.2) continue;
     if (best < 0 || std::abs(d.mean_angular_velocity.z()) < std::abs(library.skills()[best].mean_angular_velocity.z())) {
       best = d.id;
     }

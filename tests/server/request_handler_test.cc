@@ -132,7 +132,7 @@ TEST(RequestHandlerSkills, SkillsThatFellSoonInEitherEvaluationAreRefused) {
   // A library whose skill 1 fell after 9 steps in its evaluation, and whose skill 2 fell under
   // randomisation.
   SkillLibrary library = testutil::ShippedLibrary();
-  ASSERT_GT(library.num_skills(), 1);
+  ASSERT_GT(library.num_skills(), 2);
   ServerConfig config;
   SimBackend backend(config.sim);
   Controller controller(backend, library, config);
@@ -160,9 +160,11 @@ TEST(RequestHandlerSkills, SkillsThatFellSoonInEitherEvaluationAreRefused) {
   EXPECT_EQ(late.status, ReplyStatus::kNotAvailable);
   EXPECT_THAT(late.message, HasSubstr("skill 2 fell after 783 steps in the library's randomised evaluation"));
   EXPECT_THAT(late.message, HasSubstr("fewer than safety.min_skill_survival = 1000"));
+  pushed.randomized_survival_steps.reset();  // a fall without a count is at step 0
+  EXPECT_THAT(call(5, "execute_skill", 2).message, HasSubstr("skill 2 fell after 0 steps"));
   pushed.randomized_fell = false;
   pushed.randomized_survival_steps = 1000;
-  EXPECT_EQ(call(5, "execute_skill", 2).status, ReplyStatus::kOk);
+  EXPECT_EQ(call(6, "execute_skill", 2).status, ReplyStatus::kOk);
 }
 
 TEST_F(RequestHandlerTest, VelocityOutsideTheTrainedRangeIsClippedAndTheReplySaysSo) {

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/check.h"
 #include "robot/observation.h"
 #include "core/thread_pool.h"
 #include "sim/vec_env.h"
@@ -140,6 +141,7 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
 
 Evaluation EvaluateWorstOfStarts(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
                                  const EvaluationOptions& options, int starts) {
+  FLSD_DEMAND(starts >= 1);
   Evaluation worst = EvaluateSkills(config, policy, normalizer, options);
   worst.starts = starts;
   for (int n = 1; n < starts; ++n) {

@@ -24,8 +24,9 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
                           const EvaluationOptions& options);
 
 // EvaluateSkills from `starts` seeds (options.seed, options.seed + 1, ...): the first one's
-// record, with each skill's survival the shortest of all its starts, and fell if it fell in any.
-// One randomised start per skill misses skills that fall one time in three.
+// record (trajectories, velocities, joint speeds, coverage), with each skill's survival the
+// shortest of all its starts, and fell if it fell in any. One randomised start per skill misses
+// skills that fall one time in three. `starts` must be at least 1.
 Evaluation EvaluateWorstOfStarts(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
                                  const EvaluationOptions& options, int starts);
 

@@ -141,7 +141,7 @@ TEST(VelocityTask, TheEnvelopeSpansTheSurvivingSkillsAndStill) {
   const std::array<Interval, 3> envelope = CommandEnvelope(library, 1.0);
   double vx_min = 0.0, vx_max = 0.0;
   for (const SkillDescriptor& d : library.skills()) {
-    if (d.fell || d.survival_steps < 500) continue;
+    if (EarliestFall(d) || d.survival_steps < 500) continue;  // fell in either evaluation
     vx_min = std::min(vx_min, d.mean_linear_velocity.x());
     vx_max = std::max(vx_max, d.mean_linear_velocity.x());
   }

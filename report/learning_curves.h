@@ -9,8 +9,17 @@ namespace flsd {
 
 struct CurveSpec {
   std::string label;
-  std::string csv;  // a progress.csv
+  // progress.csv files, one per seed: their mean is drawn, with the band between the lowest and
+  // the highest seed where there are several.
+  std::vector<std::string> csvs;
 };
+
+// Per row, over the seeds' series (truncated to the shortest): the mean, the lowest and the
+// highest.
+struct SeedSpread {
+  std::vector<double> mean, low, high;
+};
+SeedSpread SpreadOverSeeds(const std::vector<std::vector<double>>& seeds);
 
 struct CurvePlotOptions {
   std::string x = "env_steps";

@@ -329,7 +329,7 @@ std::string FiguresHtml(const std::vector<ReportRun>& runs, const std::string& d
 
   std::vector<CurveSpec> curves;
   for (const ReportRun& r : runs) {
-    if (!r.progress_csv.empty()) curves.push_back({r.label, r.progress_csv});
+    if (!r.progress_csv.empty()) curves.push_back({r.label, {r.progress_csv}});
   }
   if (!curves.empty()) {
     h << "<h2>Learning curves</h2>\n";

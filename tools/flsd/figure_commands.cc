@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,10 @@ void AddFigures(CLI::App& app, Subcommands& out) {
   };
   auto plot = std::make_shared<PlotArgs>();
   CLI::App* plot_cmd = app.add_subcommand("plot", "Draw learning curves of runs as one SVG chart");
-  plot_cmd->add_option("curves", plot->curves, "LABEL=RUN_DIR/progress.csv ...")->required();
+  plot_cmd->add_option("curves", plot->curves,
+                       "LABEL=RUN_DIR/progress.csv[,RUN_DIR/progress.csv...] ... (several: one per seed, drawn as "
+                       "their mean and the band between the lowest and the highest)")
+      ->required();
   plot_cmd->add_option("--x", plot->options.x, "Column for the x axis (default env_steps)");
   plot_cmd->add_option("--y", plot->options.y, "Column for the y axis (default mean_reward)");
   plot_cmd->add_option("--smooth", plot->options.smooth, "Moving average over this many iterations")
@@ -45,7 +49,10 @@ void AddFigures(CLI::App& app, Subcommands& out) {
                    for (const std::string& arg : plot->curves) {
                      const size_t eq = arg.find('=');
                      if (eq == std::string::npos) throw InputError("plot: expected LABEL=FILE, got '" + arg + "'");
-                     specs.push_back({arg.substr(0, eq), arg.substr(eq + 1)});
+                     CurveSpec spec{arg.substr(0, eq), {}};
+                     std::stringstream files(arg.substr(eq + 1));
+                     for (std::string file; std::getline(files, file, ',');) spec.csvs.push_back(file);
+                     specs.push_back(spec);
                    }
                    PlotCurves(specs, plot->options);
                    std::printf("%s\n", plot->options.output.c_str());

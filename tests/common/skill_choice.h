@@ -25,6 +25,18 @@ inline std::vector<int> FastestSurvivingSkills(const SkillLibrary& library, int 
   return ids;
 }
 
+// The skill that never fell and turns fastest (either way). -1 if the library has none.
+inline int FastestTurningSkill(const SkillLibrary& library) {
+  int best = -1;
+  for (const SkillDescriptor& d : library.skills()) {
+    if (EarliestFall(d)) continue;
+    if (best < 0 || std::abs(d.mean_angular_velocity.z()) > std::abs(library.skills()[best].mean_angular_velocity.z())) {
+      best = d.id;
+    }
+  }
+  return best;
+}
+
 // The skill that never fell and moves (at least 0.2 m/s) with the least turning: a walk that does
 // not tip the robot on a loaded machine, as a spinner can. -1 if none moves.
 inline int StraightestMovingSkill(const SkillLibrary& library) {

@@ -14,7 +14,9 @@
 #include <memory>
 
 #include "hw/a1_emulator.h"
+#include "skills/runtime/skill_library.h"
 #include "tests/common/client_skilld_fixture.h"
+#include "tests/common/skill_choice.h"
 
 namespace flsd {
 namespace {
@@ -75,7 +77,8 @@ TEST_P(A1PeerFault, DampsWithinItsDetectionTimeAndRefusesStandNamingTheCause) {
   std::this_thread::sleep_for(1s);  // settled
   if (fault.turning) {
     CallArgs spin;
-    spin.skill = 10;  // turns at 2.3 rad/s
+    spin.skill = testutil::FastestTurningSkill(SkillLibrary::Load(FLSD_SOURCE_DIR "/models/a1_flsd.safetensors"));
+    ASSERT_GE(spin.skill, 0);
     spin.duration = 10.0;
     ASSERT_TRUE(client->Call("execute_skill", spin).ok());
     ASSERT_TRUE(client->WaitForState([](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_SKILL; }, 20s));

@@ -100,7 +100,7 @@ nlohmann::json Navigate(Client& client, const Map2D& map, const Goal& goal, doub
 }  // namespace
 
 nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
-  SkilldProcess skilld(options.library, options.domain_id, "navbench");
+  SkilldProcess skilld(options.library, options.server_config, options.domain_id, "navbench");
   const std::unique_ptr<Client> served = skilld.Connect();
   Client& client = *served;
   // The ideal speed: the fastest skill the server serves (the selector's choices).

@@ -7,6 +7,7 @@ namespace flsd {
 
 struct NavBenchOptions {
   std::string library = "models/a1_flsd.safetensors";
+  std::string server_config;  // skilld's --config; empty: its defaults
   int goals = 3;  // per map
   int seed = 1;
   int domain_id = 43;

@@ -10,7 +10,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "core/check.h"
 #include "core/paths.h"
@@ -21,7 +23,8 @@ namespace flsd {
 
 namespace fs = std::filesystem;
 
-SkilldProcess::SkilldProcess(const std::string& library, int domain_id, const std::string& name)
+SkilldProcess::SkilldProcess(const std::string& library, const std::string& config, int domain_id,
+                             const std::string& name)
     : domain_id_(domain_id), partition_(name + "-" + std::to_string(getpid())) {
   const std::string loopback = "file://" + ResolveDataPath("configs/cyclonedds_loopback.xml");
   setenv("CYCLONEDDS_URI", loopback.c_str(), /*overwrite=*/0);
@@ -29,13 +32,17 @@ SkilldProcess::SkilldProcess(const std::string& library, int domain_id, const st
   const std::string skilld = (fs::read_symlink("/proc/self/exe").parent_path() / "skilld").string();
   const std::string resolved = ResolveDataPath(library);
   const std::string domain = std::to_string(domain_id);
-  const char* argv[] = {skilld.c_str(), "--backend", "sim",          "--library", resolved.c_str(), "--domain",
-                        domain.c_str(), "--partition", partition_.c_str(), nullptr};
+  std::vector<std::string> args = {skilld, "--backend", "sim", "--library", resolved, "--domain", domain,
+                                   "--partition", partition_};
+  if (!config.empty()) args.insert(args.end(), {"--config", ResolveDataPath(config)});
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
   posix_spawn_file_actions_t output;
   posix_spawn_file_actions_init(&output);
   posix_spawn_file_actions_addopen(&output, 1, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&output, 1, 2);
-  const int spawned = posix_spawn(&pid_, skilld.c_str(), &output, nullptr, const_cast<char**>(argv), environ);
+  const int spawned = posix_spawn(&pid_, skilld.c_str(), &output, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&output);
   if (spawned != 0) throw InputError("cannot start " + skilld + ": build it first (make build)");
 }

@@ -11,12 +11,12 @@
 
 namespace flsd {
 
-// skilld with the simulated A1 and `library` for the length of a benchmark, its log in a file,
-// in a partition of its own on `domain_id`, reached only over loopback (unless the user has
-// configured Cyclone otherwise).
+// skilld with the simulated A1 and `library` (and the server config `config`, if not empty) for
+// the length of a benchmark, its log in a file, in a partition of its own on `domain_id`, reached
+// only over loopback (unless the user has configured Cyclone otherwise).
 class SkilldProcess {
  public:
-  SkilldProcess(const std::string& library, int domain_id, const std::string& name);
+  SkilldProcess(const std::string& library, const std::string& config, int domain_id, const std::string& name);
   ~SkilldProcess();  // SIGINT: skilld damps the robot and leaves
   SkilldProcess(const SkilldProcess&) = delete;
   SkilldProcess& operator=(const SkilldProcess&) = delete;

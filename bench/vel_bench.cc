@@ -64,7 +64,7 @@ nlohmann::json RunVelBenchmark(const VelBenchOptions& options) {
   if (!(options.settle_seconds >= 0.0 && options.settle_seconds < options.seconds)) {
     throw InputError("--settle must be at least 0 and below --seconds");
   }
-  SkilldProcess skilld(options.library, options.domain_id, "velbench");
+  SkilldProcess skilld(options.library, options.server_config, options.domain_id, "velbench");
   const std::unique_ptr<Client> client = skilld.Connect();
   nlohmann::json cases = nlohmann::json::array();
   double lin2 = 0.0, ang2 = 0.0;

@@ -33,7 +33,9 @@ torch::Tensor ConstraintTerminations::Probabilities(const torch::Tensor& violati
     double batch_max = 0.0;
     for (int r = 0; r < comm.size(); ++r) batch_max = std::max(batch_max, maxima[r * kNumConstraints + c]);
     scale_[c] = scale_[c] > 0.0 ? config_.ema_decay * scale_[c] + (1.0 - config_.ema_decay) * batch_max : batch_max;
-    const torch::Tensor v = flat.select(1, c);
+    // In double: a constraint no longer violated has its scale decay by ema_decay every
+    // iteration, below float's range within about 2000 of them, where 0 / scale would be NaN.
+    const torch::Tensor v = flat.select(1, c).to(torch::kFloat64);
     per_constraint.push_back(scale_[c] > 0.0 ? MaxP(c, iteration) * (v / scale_[c]).clamp(0.0, 1.0)
                                              : torch::zeros_like(v));
   }
@@ -42,7 +44,7 @@ torch::Tensor ConstraintTerminations::Probabilities(const torch::Tensor& violati
   comm.Sum(summed, kNumConstraints + 1);
   for (int c = 0; c < kNumConstraints; ++c) stats.violation_rate[c] = summed[c] / comm.size();
   stats.mean_probability = summed[kNumConstraints] / comm.size();
-  return probability.reshape({violations.size(0), violations.size(1)});
+  return probability.reshape({violations.size(0), violations.size(1)}).to(violations.scalar_type());
 }
 
 std::string ConstraintTerminations::State() const {

@@ -1,5 +1,7 @@
 #include "skills/learning/runners/trainer.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -429,6 +431,11 @@ IterationStats Trainer::RunIteration() {
   stats.seconds_total = Since(start);
   stats.steps_per_s = job_steps / stats.seconds_total;
   stats.finite = stats.ppo.finite && std::isfinite(stats.pae_loss) && std::isfinite(stats.discriminator_loss);
+  if (!stats.finite) {
+    spdlog::error("iteration {}: not finite:{}{}{}", stats.iteration, stats.ppo.finite ? "" : " PPO's loss",
+                  std::isfinite(stats.pae_loss) ? "" : " the PAE's loss",
+                  std::isfinite(stats.discriminator_loss) ? "" : " the discriminator's loss");
+  }
   return stats;
 }
 

@@ -51,6 +51,25 @@ TEST(ConstraintTerminations, ProbabilityIsMaxPTimesTheViolationOverItsRunningSca
               1e-6);
 }
 
+// A constraint violated once and then kept for 3000 iterations has its scale decay past float's
+// range (0.95^3000 of it); a step that keeps it must still get probability 0, not NaN, and one
+// that breaks it again the soft max_p. (A DIAYN run stopped on NaN rewards at iteration 2403.)
+TEST(ConstraintTerminations, AScaleDecayedPastFloatsRangeGivesFiniteProbabilities) {
+  ConstraintTerminations cat(ConstraintTerminationConfig{});
+  ConstraintStats stats;
+  cat.Probabilities(Violations(), 0, Communicator::Self(), stats);
+  for (int i = 1; i <= 3000; ++i) cat.Probabilities(torch::zeros({1, 4, kNumConstraints}), i, Communicator::Self(), stats);
+  const torch::Tensor kept = cat.Probabilities(torch::zeros({1, 4, kNumConstraints}), 3001, Communicator::Self(), stats);
+  EXPECT_TRUE(torch::isfinite(kept).all().item<bool>());
+  EXPECT_EQ(kept.max().item<double>(), 0.0);
+  torch::Tensor again = torch::zeros({1, 4, kNumConstraints});
+  again[0][0][kSlip] = 1e-3f;
+  const torch::Tensor p = cat.Probabilities(again, 3002, Communicator::Self(), stats);
+  EXPECT_EQ(p.scalar_type(), torch::kFloat32);
+  EXPECT_NEAR(p[0][0].item<double>(), ConstraintTerminationConfig{}.max_p.hi, 1e-6);
+  EXPECT_EQ(p[0][1].item<double>(), 0.0);
+}
+
 TEST(ConstraintTerminations, TheRunningScalesRoundTripThroughACheckpointString) {
   ConstraintTerminations cat(ConstraintTerminationConfig{}), restored(ConstraintTerminationConfig{});
   ConstraintStats stats;

@@ -17,7 +17,9 @@ namespace flsd {
 
 struct FollowerConfig {
   double lookahead = 0.6;        // m along the path
-  double max_speed = 0.5;        // m/s
+  // m/s. At 0.5 the shipped skills took 2.8-3.6 times the ideal time (p50 per map), at 0.8
+  // 1.7-2.2, reaching as many goals and coming no closer to an obstacle (flsd bench nav).
+  double max_speed = 0.8;
   double max_turn_rate = 1.0;    // rad/s
   double heading_gain = 1.5;     // rad/s per rad of heading error
   double goal_tolerance = 0.25;  // m from the last waypoint counts as reached

@@ -11,8 +11,15 @@ namespace {
 
 const std::vector<Eigen::Vector2d> kStraight = {{0, 0}, {1, 0}, {2, 0}, {3, 0}};
 
+// The defaults with a top speed of 0.5 m/s, which the known answers below are worked out for.
+FollowerConfig HalfMetrePerSecond() {
+  FollowerConfig config;
+  config.max_speed = 0.5;
+  return config;
+}
+
 TEST(WaypointFollower, WalksForwardAlongAStraightPathItFaces) {
-  WaypointFollower follower(kStraight, FollowerConfig{});
+  WaypointFollower follower(kStraight, HalfMetrePerSecond());
   const FollowerCommand c = follower.Update({0.0, 0.0}, 0.0);
   EXPECT_NEAR(c.velocity.x(), 0.5, 1e-9);
   EXPECT_NEAR(c.velocity.y(), 0.0, 1e-9);
@@ -22,14 +29,14 @@ TEST(WaypointFollower, WalksForwardAlongAStraightPathItFaces) {
 }
 
 TEST(WaypointFollower, TurnsTowardsAPathToItsLeft) {
-  WaypointFollower follower(kStraight, FollowerConfig{});
+  WaypointFollower follower(kStraight, HalfMetrePerSecond());
   const FollowerCommand c = follower.Update({0.0, 0.0}, -M_PI / 2);  // facing -y: the path is to its left
   EXPECT_NEAR(c.velocity.y(), 0.5, 1e-9);  // it steps left, towards the path
   EXPECT_NEAR(c.velocity.z(), 1.0, 1e-9);  // and turns left, at the rate limit
 }
 
 TEST(WaypointFollower, CanTurnInPlaceTowardsAPathFarOffItsHeadingThenWalk) {
-  FollowerConfig config;
+  FollowerConfig config = HalfMetrePerSecond();
   config.turn_in_place_above = 0.8;
   WaypointFollower follower(kStraight, config);
   const FollowerCommand c = follower.Update({0.0, 0.0}, -M_PI / 2);
@@ -42,7 +49,7 @@ TEST(WaypointFollower, CanTurnInPlaceTowardsAPathFarOffItsHeadingThenWalk) {
 }
 
 TEST(WaypointFollower, CanSlowDownWhereLittleRoomIsLeftBeyondItsRadius) {
-  FollowerConfig config;
+  FollowerConfig config = HalfMetrePerSecond();
   config.slow_clearance = 0.4;
   WaypointFollower follower(kStraight, config);
   // slow_clearance 0.4 m, min_speed_share 0.4: 0.2 m of room leaves 70 % of 0.5 m/s, none 40 %.
@@ -52,7 +59,7 @@ TEST(WaypointFollower, CanSlowDownWhereLittleRoomIsLeftBeyondItsRadius) {
 }
 
 TEST(WaypointFollower, SteersBackOntoThePathAndSaysWhenItIsTooFarOff) {
-  WaypointFollower follower(kStraight, FollowerConfig{});
+  WaypointFollower follower(kStraight, HalfMetrePerSecond());
   const FollowerCommand near = follower.Update({1.0, 0.3}, 0.0);
   EXPECT_LT(near.velocity.y(), 0.0);  // back towards y = 0
   EXPECT_FALSE(near.off_path);
@@ -61,7 +68,7 @@ TEST(WaypointFollower, SteersBackOntoThePathAndSaysWhenItIsTooFarOff) {
 }
 
 TEST(WaypointFollower, SlowsDownAndStopsAtTheGoal) {
-  WaypointFollower follower(kStraight, FollowerConfig{});
+  WaypointFollower follower(kStraight, HalfMetrePerSecond());
   follower.Update({2.0, 0.0}, 0.0);
   const FollowerCommand close = follower.Update({2.6, 0.0}, 0.0);
   EXPECT_NEAR(close.velocity.x(), 0.5 * 0.4 / 0.5, 1e-9);

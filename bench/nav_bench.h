@@ -7,7 +7,7 @@ namespace flsd {
 
 struct NavBenchOptions {
   std::string library = "models/a1_flsd.safetensors";
-  std::string server_config;  // skilld's --config; empty: its defaults
+  std::string server_config;  // skilld's --config; empty: skilld's own default (configs/server.yaml)
   int goals = 3;  // per map
   int seed = 1;
   int domain_id = 43;

@@ -11,7 +11,8 @@
 
 namespace flsd {
 
-// skilld with the simulated A1 and `library` (and the server config `config`, if not empty) for
+// skilld with the simulated A1 and `library` (and the server config `config`, if not empty: else
+// skilld's default, configs/server.yaml) for
 // the length of a benchmark, its log in a file, in a partition of its own on `domain_id`, reached
 // only over loopback (unless the user has configured Cyclone otherwise).
 class SkilldProcess {

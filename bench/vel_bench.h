@@ -7,7 +7,7 @@ namespace flsd {
 
 struct VelBenchOptions {
   std::string library = "models/a1_flsd.safetensors";
-  std::string server_config;  // skilld's --config; empty: its defaults
+  std::string server_config;  // skilld's --config; empty: skilld's own default (configs/server.yaml)
   double seconds = 4.0;         // each command is held this long
   double settle_seconds = 1.0;  // and measured after this
   int domain_id = 44;

@@ -88,6 +88,17 @@ void PlotCurves(const std::vector<CurveSpec>& curves, const CurvePlotOptions& op
     }
     SeedSpread y = SpreadOverSeeds(seeds);
     std::vector<double> x = ReadCsvColumn(c.csvs.front(), options.x);
+    // Seeds are averaged row by row: their x columns must agree where they overlap.
+    for (const std::string& csv : c.csvs) {
+      const std::vector<double> other = ReadCsvColumn(csv, options.x);
+      for (size_t i = 0; i < std::min({x.size(), other.size(), y.mean.size()}); ++i) {
+        if (other[i] != x[i]) {
+          throw InputError(csv + ": row " + std::to_string(i + 2) + " has " + options.x + " " + std::to_string(other[i]) +
+                           ", but " + c.csvs.front() + " has " + std::to_string(x[i]) + ": seeds of '" + c.label +
+                           "' must share their " + options.x + " column");
+        }
+      }
+    }
     const size_t rows = std::min(x.size(), y.mean.size());
     for (std::vector<double>* v : {&x, &y.mean, &y.low, &y.high}) v->resize(rows);
     xs.push_back(std::move(x));

@@ -30,7 +30,7 @@ echo "== stand"
 fastest=$(awk 'NR > 1 { if ($7 > longest) longest = $7; row[NR] = $0 }
                END { for (i in row) { split(row[i], f); if (f[7] == longest)
                        printf "%s %f\n", f[1], sqrt(f[2]*f[2] + f[3]*f[3]) + 0.3*(f[4] < 0 ? -f[4] : f[4]) } }' \
-          /tmp/flsd_demo_skills.$$ | sort -k2 -g -r | head -4 | cut -d' ' -f1)
+          /tmp/flsd_demo_skills.$$ | LC_ALL=C sort -k2 -g -r | head -4 | cut -d' ' -f1)
 rm -f /tmp/flsd_demo_skills.$$
 status=0
 picture=${PICTURE:-build/demo_navigation.svg}

@@ -76,11 +76,11 @@ TEST_P(A1PeerFault, DampsWithinItsDetectionTimeAndRefusesStandNamingTheCause) {
       << server_->Log();
   std::this_thread::sleep_for(1s);  // settled
   if (fault.turning) {
-    CallArgs spin;
-    spin.skill = testutil::FastestTurningSkill(SkillLibrary::Load(FLSD_SOURCE_DIR "/models/a1_flsd.safetensors"));
-    ASSERT_GE(spin.skill, 0);
-    spin.duration = 10.0;
-    ASSERT_TRUE(client->Call("execute_skill", spin).ok());
+    CallArgs turn;  // the library's fastest turn (the shipped one: an arc at about 0.5 rad/s)
+    turn.skill = testutil::FastestTurningSkill(SkillLibrary::Load(FLSD_SOURCE_DIR "/models/a1_flsd.safetensors"));
+    ASSERT_GE(turn.skill, 0);
+    turn.duration = 10.0;
+    ASSERT_TRUE(client->Call("execute_skill", turn).ok());
     ASSERT_TRUE(client->WaitForState([](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_SKILL; }, 20s));
     std::this_thread::sleep_for(500ms);
   }

@@ -48,7 +48,18 @@ TEST(LearningCurves, SeveralSeedsAreDrawnAsTheirMeanAndABand) {
   EXPECT_THAT(svg.str(), HasSubstr("FLSD-L (mean of 2 seeds)"));
   EXPECT_THAT(svg.str(), HasSubstr("<polygon"));  // one band, for the curve with two seeds
   EXPECT_EQ(svg.str().find("<polygon"), svg.str().rfind("<polygon"));
+  EXPECT_THAT(svg.str(), HasSubstr(">Scratch<"));  // one seed: no band, no "mean of"
   EXPECT_THAT(svg.str(), ::testing::Not(HasSubstr("Scratch (mean")));
+}
+
+TEST(LearningCurves, SeedsThatDoNotShareTheirXColumnAreRefusedNamingTheFile) {
+  const std::string a = WriteCsv("x1.csv", "env_steps,mean_reward\n100,0.0\n200,1.0\n");
+  const std::string b = WriteCsv("x2.csv", "env_steps,mean_reward\n100,2.0\n400,3.0\n");
+  CurvePlotOptions options;
+  options.output = testutil::UniqueTempPath("mismatch.svg");
+  const std::string message = testutil::InputErrorMessage([&] { PlotCurves({{"FLSD-L", {a, b}}}, options); });
+  EXPECT_THAT(message, HasSubstr(b + ": row 3 has env_steps 400"));
+  EXPECT_THAT(message, HasSubstr("seeds of 'FLSD-L' must share their env_steps column"));
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ void AddBenchmarks(CLI::App& app, Subcommands& out) {
       *bench, out, "nav", "Navigation through a real skilld on every shipped map, from fresh resets",
       [](CLI::App& cmd, NavBenchOptions& o) {
         cmd.add_option("--library", o.library, "Skill library skilld serves");
-        cmd.add_option("--server-config", o.server_config, "skilld's config (default: its built-in defaults)");
+        cmd.add_option("--server-config", o.server_config, "skilld's config (default: skilld's, configs/server.yaml)");
         cmd.add_option("--goals", o.goals, "Start and goal pairs per map")->check(CLI::Range(1, 1000));
         cmd.add_option("--seed", o.seed, "Seed of the pairs");
         cmd.add_option("--domain", o.domain_id, "DDS domain of the skilld it starts")->check(CLI::Range(0, 232));
@@ -99,7 +99,7 @@ void AddBenchmarks(CLI::App& app, Subcommands& out) {
       *bench, out, "vel", "The eight tracking commands through a real skilld, from fresh resets",
       [](CLI::App& cmd, VelBenchOptions& o) {
         cmd.add_option("--library", o.library, "Skill library skilld serves");
-        cmd.add_option("--server-config", o.server_config, "skilld's config (default: its built-in defaults)");
+        cmd.add_option("--server-config", o.server_config, "skilld's config (default: skilld's, configs/server.yaml)");
         cmd.add_option("--seconds", o.seconds, "Seconds each command is held")->check(CLI::Range(0.5, 600.0));
         cmd.add_option("--settle", o.settle_seconds, "Seconds before the velocity is measured")
             ->check(CLI::Range(0.0, 600.0));

@@ -89,7 +89,8 @@ void PlotCurves(const std::vector<CurveSpec>& curves, const CurvePlotOptions& op
     SeedSpread y = SpreadOverSeeds(seeds);
     std::vector<double> x = ReadCsvColumn(c.csvs.front(), options.x);
     // Seeds are averaged row by row: their x columns must agree where they overlap.
-    for (const std::string& csv : c.csvs) {
+    for (size_t seed = 1; seed < c.csvs.size(); ++seed) {
+      const std::string& csv = c.csvs[seed];
       const std::vector<double> other = ReadCsvColumn(csv, options.x);
       for (size_t i = 0; i < std::min({x.size(), other.size(), y.mean.size()}); ++i) {
         if (other[i] != x[i]) {

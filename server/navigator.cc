@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "core/check.h"
+#include "skills/runtime/nearest_skill.h"
 
 namespace flsd {
 namespace {
@@ -24,10 +25,28 @@ bool IsOurs(const ControllerStatus& s, const NavigationJob& job) {
          s.task.client_id == job.client_id;
 }
 
+// Paths keep a margin over the library's tightest turn both ways: straight segments for a library
+// that turns in place, or, unable to turn both ways, cannot follow curves.
+double PlanningRadius(const SkillLibrary& library, const NavigationConfig& config) {
+  const double radius = TightestTurnOf(library).radius;
+  return std::isfinite(radius) ? config.turn_radius_scale * radius : 0.0;
+}
+
+// Along such curves, the follower turns no faster than the skills that make the tightest turn.
+NavigationConfig WithLibraryTurnRate(NavigationConfig config, const SkillLibrary& library, double turning_radius) {
+  if (turning_radius > 0.0) {
+    config.follower.max_turn_rate = std::min(config.follower.max_turn_rate, TightestTurnOf(library).yaw_rate);
+  }
+  return config;
+}
+
 }  // namespace
 
 Navigator::Navigator(Controller& controller, const NavigationConfig& config)
-    : controller_(controller), config_(config), thread_([this] { Run(); }) {}
+    : controller_(controller),
+      turning_radius_(PlanningRadius(controller.library(), config)),
+      config_(WithLibraryTurnRate(config, controller.library(), turning_radius_)),
+      thread_([this] { Run(); }) {}
 
 Navigator::~Navigator() {
   {
@@ -126,12 +145,13 @@ bool Navigator::Accept(MapRequest& request, uint64_t generation) {
   return submitted;
 }
 
-bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, PlannedPath& path) {
+bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, double yaw, PlannedPath& path) {
   PlannerOptions options;
+  options.turning_radius = turning_radius_;
   options.time_limit = config_.planning_time;
   options.waypoint_spacing = config_.waypoint_spacing;
   options.clearance_margin = config_.clearance_margin;
-  path = PlanPath(job.map, from, job.goal, options);
+  path = PlanPath(job.map, from, job.goal, options, yaw);
   if (path.status != PlannedPath::Status::kFound) {
     Finish(job, TaskState::kNoPath, path.message);
     return false;
@@ -149,9 +169,11 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
   const auto period = std::chrono::duration<double>(1.0 / config_.rate_hz);
 
   PlannedPath path;
-  if (!Plan(job, controller_.status().state.base_position.head<2>(), path)) return;
-  spdlog::info("navigate to ({:.2f}, {:.2f}): {} waypoints, {:.2f} m, planned in {:.0f} ms", job.goal.x(),
-               job.goal.y(), path.waypoints.size(), path.length, 1e3 * path.planning_seconds);
+  const ControllerStatus begin = controller_.status();
+  if (!Plan(job, begin.state.base_position.head<2>(), begin.state.Yaw(), path)) return;
+  spdlog::info("navigate to ({:.2f}, {:.2f}): {} waypoints, {:.2f} m, turning radius {:.2f} m, planned in {:.0f} ms",
+               job.goal.x(), job.goal.y(), path.waypoints.size(), path.length, path.turning_radius,
+               1e3 * path.planning_seconds);
   WaypointFollower follower(path.waypoints, config_.follower);
   int replans = 0;
   double last_replan = -HUGE_VAL;  // s since the start
@@ -195,7 +217,7 @@ void Navigator::Navigate(const NavigationJob& job, uint64_t generation) {
                           : Format("%.2f m off the path", command.distance_to_path),
                    replans);
       Steer(job, Eigen::Vector3d::Zero(), "replanning");  // hold still while planning
-      if (!Plan(job, position, path)) return;
+      if (!Plan(job, position, status.state.Yaw(), path)) return;
       follower = WaypointFollower(path.waypoints, config_.follower);
       continue;
     }

@@ -68,12 +68,13 @@ class Navigator {
   // Reads the map of `request`, submits its task unless superseded, and answers it; whether it runs.
   bool Accept(MapRequest& request, uint64_t generation);
   void Navigate(const NavigationJob& job, uint64_t generation);
-  bool Plan(const NavigationJob& job, const Eigen::Vector2d& from, PlannedPath& path);
+  bool Plan(const NavigationJob& job, const Eigen::Vector2d& from, double yaw, PlannedPath& path);
   void Finish(const NavigationJob& job, TaskState state, const std::string& message);
   void Steer(const NavigationJob& job, const Eigen::Vector3d& velocity, const std::string& progress);
   bool Superseded(uint64_t generation) const;
 
   Controller& controller_;
+  const double turning_radius_;  // m the planned paths keep to (PlannerOptions)
   NavigationConfig config_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;

@@ -84,6 +84,9 @@ struct NavigationConfig {
   double replan_inside = 0.1;      // m into the robot's radius of an obstacle: plan again
   double timeout = 120.0;          // s a navigation may take, standing up included
   double rate_hz = 20.0;           // how often the follower steers
+  // Paths turn no tighter than this times the library's tightest turn both ways (0: straight
+  // segments, for a robot that turns in place); above 1, room for the follower's lag.
+  double turn_radius_scale = 1.2;
   FollowerConfig follower;
   template <class V>
   void Visit(V& v) {
@@ -94,6 +97,7 @@ struct NavigationConfig {
     v("replan_inside", replan_inside, Bounds<double>{0.0, 10.0});
     v("timeout", timeout, Bounds<double>{1.0, 86400.0});
     v("rate_hz", rate_hz, Bounds<double>{1.0, 50.0});
+    v("turn_radius_scale", turn_radius_scale, Bounds<double>{0.0, 10.0});
     v("follower", follower);
   }
 };

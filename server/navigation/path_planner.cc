@@ -1,11 +1,16 @@
 #include "server/navigation/path_planner.h"
 
 #include <ompl/base/objectives/PathLengthOptimizationObjective.h>
+#include <ompl/base/goals/GoalSampleableRegion.h>
+#include <ompl/base/spaces/DubinsStateSpace.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/SimpleSetup.h>
 #include <ompl/geometric/planners/rrt/InformedRRTstar.h>
+#include <ompl/geometric/planners/rrt/RRTstar.h>
+#include <ompl/util/RandomNumbers.h>
 #include <ompl/util/Console.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -40,55 +45,146 @@ std::optional<Eigen::Vector2d> WayOut(const Map2D& map, Eigen::Vector2d p) {
   return std::nullopt;
 }
 
-// The simplified path's corners on `map` with `margin` beyond the robot's radius, or none.
-// States near the start need only be outside obstacles (a robot that strayed into the margin
-// walks back out), and states near the goal need only be free.
-std::optional<std::vector<Eigen::Vector2d>> Solve(const Map2D& map, const Eigen::Vector2d& start,
+constexpr double kCurveStep = 0.05;  // m between the waypoints that trace a curved path
+constexpr double kGoalReach = 0.05;  // m from the goal at which a curved path may end
+
+Eigen::Vector2d PositionOf(const ob::State* s, bool curved) {
+  if (curved) {
+    const auto* pose = s->as<ob::SE2StateSpace::StateType>();
+    return {pose->getX(), pose->getY()};
+  }
+  const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+  return {v->values[0], v->values[1]};
+}
+
+// The goal of a curved plan: its position, at any heading.
+class GoalPosition : public ob::GoalSampleableRegion {
+ public:
+  GoalPosition(const ob::SpaceInformationPtr& si, const Eigen::Vector2d& goal) : ob::GoalSampleableRegion(si), goal_(goal) {
+    setThreshold(kGoalReach);
+  }
+  double distanceGoal(const ob::State* s) const override { return (PositionOf(s, true) - goal_).norm(); }
+  void sampleGoal(ob::State* s) const override {
+    auto* pose = s->as<ob::SE2StateSpace::StateType>();
+    pose->setXY(goal_.x(), goal_.y());
+    pose->setYaw(rng_.uniformReal(-M_PI, M_PI));
+  }
+  unsigned int maxSampleCount() const override { return std::numeric_limits<unsigned int>::max(); }
+
+ private:
+  Eigen::Vector2d goal_;
+  mutable ompl::RNG rng_;
+};
+
+double PolylineLength(const std::vector<Eigen::Vector2d>& points) {
+  double length = 0.0;
+  for (size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
+  return length;
+}
+
+// Points kCurveStep apart along a path of Dubins curves.
+std::vector<Eigen::Vector2d> PointsAlong(og::PathGeometric path) {
+  path.interpolate(std::max(2, static_cast<int>(std::ceil(path.length() / kCurveStep)) + 1));
+  std::vector<Eigen::Vector2d> points;
+  for (std::size_t i = 0; i < path.getStateCount(); ++i) points.push_back(PositionOf(path.getState(i), true));
+  return points;
+}
+
+// In the open, the shortest free Dubins curve to the goal at one of kGoalHeadings headings is the
+// path, found without a search (as a straight line needs none).
+std::optional<og::PathGeometric> DirectCurve(const ob::SpaceInformationPtr& si, const ob::ScopedState<>& from,
+                                             const Eigen::Vector2d& goal) {
+  constexpr int kGoalHeadings = 36;
+  std::vector<std::pair<double, ob::ScopedState<>>> ends;
+  for (int k = 0; k < kGoalHeadings; ++k) {
+    ob::ScopedState<> to(si->getStateSpace());
+    to[0] = goal.x();
+    to[1] = goal.y();
+    to[2] = -M_PI + 2.0 * M_PI * k / kGoalHeadings;
+    ends.emplace_back(si->distance(from.get(), to.get()), to);
+  }
+  std::sort(ends.begin(), ends.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [length, to] : ends) {
+    if (si->isValid(to.get()) && si->checkMotion(from.get(), to.get())) return og::PathGeometric(si, from.get(), to.get());
+  }
+  return std::nullopt;
+}
+
+// The path's waypoints on `map` with `margin` beyond the robot's radius, or none: the simplified
+// path's corners, or with a turning radius, points along its curves. States near the start need
+// only be outside obstacles (a robot that strayed into the margin walks back out), and states
+// near the goal need only be free.
+std::optional<std::vector<Eigen::Vector2d>> Solve(const Map2D& map, const Eigen::Vector2d& start, double start_yaw,
                                                   const Eigen::Vector2d& goal, const PlannerOptions& options,
-                                                  double margin) {
+                                                  double margin, double turning_radius) {
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
-  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  const bool curved = turning_radius > 0.0;
   ob::RealVectorBounds bounds(2);
   bounds.setLow(0, map.x_min);
   bounds.setHigh(0, map.x_max);
   bounds.setLow(1, map.y_min);
   bounds.setHigh(1, map.y_max);
-  space->setBounds(bounds);
+  ob::StateSpacePtr space;
+  if (curved) {
+    auto dubins = std::make_shared<ob::DubinsStateSpace>(turning_radius);
+    dubins->setBounds(bounds);
+    space = dubins;
+  } else {
+    auto plane = std::make_shared<ob::RealVectorStateSpace>(2);
+    plane->setBounds(bounds);
+    space = plane;
+  }
   og::SimpleSetup setup(space);
   const double keep = map.robot_radius + margin;
-  setup.setStateValidityChecker([&map, &start, &goal, keep](const ob::State* s) {
-    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
-    const Eigen::Vector2d p(v->values[0], v->values[1]);
+  setup.setStateValidityChecker([&map, &start, &goal, keep, curved](const ob::State* s) {
+    const Eigen::Vector2d p = PositionOf(s, curved);
     const double clearance = map.Clearance(p);
     return clearance >= keep || ((p - start).norm() < keep && clearance > 0.0) ||
            ((p - goal).norm() < keep && clearance >= map.robot_radius);
   });
-  const double extent = std::max(map.x_max - map.x_min, map.y_max - map.y_min);
-  setup.getSpaceInformation()->setStateValidityCheckingResolution(options.collision_resolution / extent);
-  ob::ScopedState<> from(space), to(space);
+  const ob::SpaceInformationPtr& si = setup.getSpaceInformation();
+  si->setStateValidityCheckingResolution(options.collision_resolution / space->getMaximumExtent());
+  ob::ScopedState<> from(space);
   from[0] = start.x();
   from[1] = start.y();
-  to[0] = goal.x();
-  to[1] = goal.y();
-  setup.setStartAndGoalStates(from, to);
-  auto objective = std::make_shared<ob::PathLengthOptimizationObjective>(setup.getSpaceInformation());
+  if (curved) {
+    from[2] = start_yaw;
+    si->setup();  // the motion validator, at the resolution above
+    if (std::optional<og::PathGeometric> direct = DirectCurve(si, from, goal)) return PointsAlong(*direct);
+    setup.setStartState(from);
+    setup.setGoal(std::make_shared<GoalPosition>(si, goal));
+  } else {
+    ob::ScopedState<> to(space);
+    to[0] = goal.x();
+    to[1] = goal.y();
+    setup.setStartAndGoalStates(from, to);
+  }
+  auto objective = std::make_shared<ob::PathLengthOptimizationObjective>(si);
   // The planner stops once a path is within 1 % of the straight line, which no path can beat (an
   // open room then takes a millisecond, not the whole budget); an infinite threshold is met by
   // any path, so the planner stops at its first one.
   objective->setCostThreshold(ob::Cost(options.first_solution_only ? std::numeric_limits<double>::infinity()
                                                                    : 1.01 * (goal - start).norm()));
   setup.getProblemDefinition()->setOptimizationObjective(objective);
-  setup.setPlanner(std::make_shared<og::InformedRRTstar>(setup.getSpaceInformation()));
+  // Informed sampling needs a straight-line metric; on Dubins curves, plain RRT*. Its warning that
+  // Dubins distances are not symmetric is silenced: it checks each motion in the direction walked,
+  // so its paths are valid, though only near-shortest.
+  if (curved) {
+    setup.setPlanner(std::make_shared<og::RRTstar>(si));
+    ompl::msg::setLogLevel(ompl::msg::LOG_ERROR);
+  } else {
+    setup.setPlanner(std::make_shared<og::InformedRRTstar>(si));
+  }
 
   if (setup.solve(options.time_limit) != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
   setup.simplifySolution();
-  const og::PathGeometric& path = setup.getSolutionPath();
-  std::vector<Eigen::Vector2d> corners;
-  for (std::size_t i = 0; i < path.getStateCount(); ++i) {
-    const auto* v = path.getState(i)->as<ob::RealVectorStateSpace::StateType>();
-    corners.emplace_back(v->values[0], v->values[1]);
+  og::PathGeometric path = setup.getSolutionPath();
+  if (!curved) {
+    std::vector<Eigen::Vector2d> corners;
+    for (std::size_t i = 0; i < path.getStateCount(); ++i) corners.push_back(PositionOf(path.getState(i), false));
+    return corners;
   }
-  return corners;
+  return PointsAlong(path);
 }
 
 }  // namespace
@@ -116,7 +212,7 @@ std::vector<Eigen::Vector2d> Densify(const std::vector<Eigen::Vector2d>& path, d
 }
 
 PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
-                     const PlannerOptions& options) {
+                     const PlannerOptions& options, double start_yaw) {
   PlannedPath result;
   const auto begin = std::chrono::steady_clock::now();
   // A robot that has strayed into the margin around an obstacle or the map's edge (a replan after
@@ -143,23 +239,39 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
     return result;
   }
 
-  for (const double margin : {options.clearance_margin, 0.0}) {
-    std::optional<std::vector<Eigen::Vector2d>> corners = Solve(map, from, goal, options, margin);
-    if (corners) {
-      if (from != start) corners->insert(corners->begin(), start);
-      result.status = PlannedPath::Status::kFound;
-      result.margin = margin;
-      result.length = 0.0;
-      for (size_t i = 1; i < corners->size(); ++i) result.length += ((*corners)[i] - (*corners)[i - 1]).norm();
-      result.waypoints = Densify(*corners, options.waypoint_spacing);
-      break;
+  // Straight segments, keeping the margin where there is room. With a turning radius, curves
+  // instead, at the largest margin that has them, unless they detour more than a full turn beyond
+  // the straight path (RRT*'s curves through a narrow gap can), or none is found (a start facing a
+  // wall closer than the radius): then the straight segments, which the robot walks as best it turns.
+  std::vector<double> margins{options.clearance_margin};
+  if (options.clearance_margin > 0.0) margins.push_back(0.0);
+  std::optional<std::vector<Eigen::Vector2d>> points;
+  double margin = 0.0;
+  for (size_t m = 0; m < margins.size() && !points; ++m) {
+    points = Solve(map, from, start_yaw, goal, options, margins[m], 0.0);
+    margin = margins[m];
+  }
+  if (!points) {
+    result.status = PlannedPath::Status::kNoPath;
+    result.message = "no collision-free path from " + Where(start) + " to " + Where(goal) + " found in " +
+                     std::to_string(options.time_limit) + " s";
+  } else {
+    const double detour = PolylineLength(*points) + 2.0 * M_PI * options.turning_radius;
+    for (size_t m = 0; m < margins.size() && options.turning_radius > 0.0; ++m) {
+      std::optional<std::vector<Eigen::Vector2d>> curve =
+          Solve(map, from, start_yaw, goal, options, margins[m], options.turning_radius);
+      if (curve && PolylineLength(*curve) <= detour) {
+        points = std::move(curve);
+        margin = margins[m];
+        result.turning_radius = options.turning_radius;
+        break;
+      }
     }
-    if (margin == 0.0) {
-      result.status = PlannedPath::Status::kNoPath;
-      result.message = "no collision-free path from " + Where(start) + " to " + Where(goal) + " found in " +
-                       std::to_string(options.time_limit) + " s";
-      break;
-    }
+    if (from != start) points->insert(points->begin(), start);
+    result.status = PlannedPath::Status::kFound;
+    result.margin = margin;
+    result.length = PolylineLength(*points);
+    result.waypoints = Densify(*points, options.waypoint_spacing);
   }
   result.planning_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   return result;

@@ -60,7 +60,11 @@ FollowerCommand WaypointFollower::Update(const Eigen::Vector2d& position, double
   // Slow down over the last half metre so as not to overshoot the goal, and near obstacles.
   const double room = config_.slow_clearance > 0.0 ? std::clamp(free_clearance / config_.slow_clearance, 0.0, 1.0) : 1.0;
   const double share = config_.min_speed_share + (1.0 - config_.min_speed_share) * room;
-  const double speed = share * std::min(config_.max_speed, config_.max_speed * (position - waypoints_.back()).norm() / 0.5);
+  double speed = share * std::min(config_.max_speed, config_.max_speed * (position - waypoints_.back()).norm() / 0.5);
+  // No faster than the arc through the target point (curvature 2 sin(error) / distance) can be
+  // walked turning at max_turn_rate: a faster command would pick a wider arc, which overshoots.
+  const double curvature = 2.0 * std::abs(body.y()) / std::max(body.squaredNorm(), 1e-12);
+  if (curvature > 0.0) speed = std::min(speed, config_.max_turn_rate / curvature);
   if (body.norm() > 1e-9) out.velocity.head<2>() = body.normalized() * speed;
   return out;
 }

@@ -2,9 +2,9 @@
 // Turns a planned path into body-frame velocity commands (vx, vy, wz) for the skill selector:
 // pure pursuit of a point `lookahead` metres further along the path, walking towards it (a
 // quadruped may step sideways) while turning to face it, and slowing down over the last half
-// metre. Optionally, far off its heading the robot first turns in place (for a library that turns
-// both ways better than it steps sideways), and it slows down where little room is left beyond
-// its radius.
+// metre, and to the speed at which max_turn_rate walks the arc through that point. Optionally, far
+// off its heading the robot first turns in place (for a library that turns both ways better than
+// it steps sideways), and it slows down where little room is left beyond its radius.
 
 #include <Eigen/Core>
 
@@ -20,7 +20,7 @@ struct FollowerConfig {
   // m/s. At 0.5 the shipped skills took 2.8-3.6 times the ideal time (p50 per map), at 0.8
   // 1.7-2.2, reaching as many goals and coming no closer to an obstacle (flsd bench nav).
   double max_speed = 0.8;
-  double max_turn_rate = 1.0;    // rad/s
+  double max_turn_rate = 1.0;    // rad/s (skilld: at most the rate of the library's tightest turn)
   double heading_gain = 1.5;     // rad/s per rad of heading error
   double goal_tolerance = 0.25;  // m from the last waypoint counts as reached
   double replan_distance = 0.75;  // m off the path: plan again

@@ -1,6 +1,7 @@
 #include "skills/runtime/nearest_skill.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "core/check.h"
@@ -15,7 +16,25 @@ bool Dependable(const SkillDescriptor& d) {
          (!d.randomized_survival_steps || Survives(*d.randomized_survival_steps));
 }
 
+constexpr double kMoverSpeed = 0.05;    // m/s
+constexpr double kTurningRate = 0.1;    // rad/s
+constexpr double kInPlaceRadius = 0.1;  // m
+
 }  // namespace
+
+TightestTurn TightestTurnOf(const SkillLibrary& library) {
+  TightestTurn side[2];  // turning right, left
+  for (const SkillDescriptor& d : library.skills()) {
+    const double speed = d.mean_linear_velocity.head<2>().norm(), rate = d.mean_angular_velocity.z();
+    if (!Dependable(d) || std::abs(rate) < kTurningRate) continue;
+    const double radius = speed < kMoverSpeed ? 0.0 : speed / std::abs(rate);
+    TightestTurn& tightest = side[rate > 0.0];
+    if (radius < tightest.radius) tightest = {radius, std::abs(rate)};
+  }
+  TightestTurn both{std::max(side[0].radius, side[1].radius), std::min(side[0].yaw_rate, side[1].yaw_rate)};
+  if (both.radius < kInPlaceRadius) both.radius = 0.0;
+  return both;
+}
 
 NearestSkillSelector::NearestSkillSelector(const SkillLibrary& library) {
   min_.setConstant(std::numeric_limits<double>::infinity());

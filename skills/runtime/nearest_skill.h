@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "skills/runtime/skill_library.h"
@@ -36,5 +37,16 @@ class NearestSkillSelector {
   std::vector<Eigen::Vector3d> velocity_;  // vx, vy, wz of each candidate
   Eigen::Vector3d min_, max_;
 };
+
+// The tightest arc the library's dependable skills (those NearestSkillSelector chooses from) walk
+// both ways: the larger of the tightest left and right turns' radii, each speed / |yaw rate| over
+// the skills that turn at least kTurningRate, and the lower of those two skills' yaw rates.
+// radius is 0 if a skill turns in place each way (under kInPlaceRadius): such a library needs no
+// turning radius. Infinite if it turns only one way, or not at all (yaw_rate 0).
+struct TightestTurn {
+  double radius = HUGE_VAL;  // m
+  double yaw_rate = 0.0;     // rad/s
+};
+TightestTurn TightestTurnOf(const SkillLibrary& library);
 
 }  // namespace flsd

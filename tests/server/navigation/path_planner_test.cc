@@ -1,6 +1,6 @@
-// The planner on maps with known answers: a free straight line, a wall with a gap, a goal inside
-// an obstacle, a start in the margin along the edge, an enclosed goal, and a margin kept where
-// there is room for it.
+// The planner on maps with known answers: a free straight line, a wall with a gap, a margin kept
+// where there is room for it, curves of a turning radius and their fallback, a goal inside an
+// obstacle, a start in the margin along the edge, and an enclosed goal.
 
 #include "server/navigation/path_planner.h"
 
@@ -13,7 +13,8 @@ namespace {
 using Status = PlannedPath::Status;
 
 // OMPL checks a segment every 2.8 cm; a chord between two checks can dip into a rounded,
-// inflated corner by s^2 / 8r, 0.3 mm here. 2 mm of the 35 cm inflation is allowed for it.
+// inflated corner by s^2 / 8r, 0.3 mm here, and a chord between a curved path's points 5 cm
+// apart cuts 0.5 mm inside a 0.6 m turn. 2 mm of the 35 cm inflation is allowed for them.
 void ExpectCollisionFree(const Map2D& map, const PlannedPath& path) {
   for (size_t i = 1; i < path.waypoints.size(); ++i) {
     const Eigen::Vector2d a = path.waypoints[i - 1], b = path.waypoints[i];
@@ -80,6 +81,55 @@ TEST(PlanPath, KeepsAMarginBeyondTheRobotsRadiusWhereThereIsRoom) {
   ASSERT_EQ(narrow.status, Status::kFound) << narrow.message;
   EXPECT_EQ(narrow.margin, 0.0);
   ExpectCollisionFree(wall, narrow);
+}
+
+// The largest turn between consecutive pieces of the path over their mean length: its curvature.
+double MaxCurvature(const std::vector<Eigen::Vector2d>& w) {
+  double most = 0.0;
+  for (size_t i = 2; i < w.size(); ++i) {
+    const Eigen::Vector2d a = w[i - 1] - w[i - 2], b = w[i] - w[i - 1];
+    const double turn = std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)));
+    most = std::max(most, turn / (0.5 * (a.norm() + b.norm())));
+  }
+  return most;
+}
+
+// A goal 1.2 m to the left of a robot facing +x, with a 0.6 m turning radius, is on its left
+// turning circle: the shortest path is the half circle (0.6 pi = 1.885 m), where a straight line
+// would be 1.2 m. Through the wall's gap too, no piece turns tighter than the radius.
+TEST(PlanPath, WithATurningRadiusThePathLeavesAlongTheHeadingAndTurnsNoTighter) {
+  const Map2D open = Map2D::Load("configs/maps/open.yaml");
+  PlannerOptions options;
+  options.turning_radius = 0.6;
+  const PlannedPath left = PlanPath(open, {0.0, 0.0}, {0.0, 1.2}, options, 0.0);
+  ASSERT_EQ(left.status, Status::kFound) << left.message;
+  EXPECT_EQ(left.turning_radius, 0.6);
+  EXPECT_GT(left.length, 0.6 * M_PI - 0.02);
+  EXPECT_LT(left.length, 0.6 * M_PI * 1.15);
+  const Eigen::Vector2d first = left.waypoints[1] - left.waypoints[0];
+  EXPECT_LT(std::abs(std::atan2(first.y(), first.x())), 0.1);
+  EXPECT_LT((left.waypoints.back() - Eigen::Vector2d(0.0, 1.2)).norm(), 0.05 + 1e-9);
+  EXPECT_LT(MaxCurvature(left.waypoints), 1.05 / 0.6);
+
+  const Map2D wall = Map2D::Load("configs/maps/wall_gap.yaml");
+  const PlannedPath gap = PlanPath(wall, {-3.0, 0.0}, {3.0, 0.0}, options, M_PI / 2);
+  ASSERT_EQ(gap.status, Status::kFound) << gap.message;
+  EXPECT_EQ(gap.turning_radius, 0.6);
+  ExpectCollisionFree(wall, gap);
+  EXPECT_LT(MaxCurvature(gap.waypoints), 1.05 / 0.6);
+}
+
+// Facing the room's edge 0.4 m away, no arc of 0.6 m stays in the room: the path falls back to
+// straight segments, which a robot that stops and turns can still walk.
+TEST(PlanPath, WithoutRoomToTurnAPathFallsBackToStraightSegments) {
+  const Map2D open = Map2D::Load("configs/maps/open.yaml");
+  PlannerOptions options;
+  options.turning_radius = 0.6;
+  options.time_limit = 0.2;
+  const PlannedPath path = PlanPath(open, {4.6, 0.0}, {0.0, 0.0}, options, 0.0);
+  ASSERT_EQ(path.status, Status::kFound) << path.message;
+  EXPECT_EQ(path.turning_radius, 0.0);
+  EXPECT_NEAR(path.length, 4.6, 0.05);
 }
 
 TEST(PlanPath, AGoalInsideAnObstacleIsBlocked) {

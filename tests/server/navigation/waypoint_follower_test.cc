@@ -31,8 +31,11 @@ TEST(WaypointFollower, WalksForwardAlongAStraightPathItFaces) {
 TEST(WaypointFollower, TurnsTowardsAPathToItsLeft) {
   WaypointFollower follower(kStraight, HalfMetrePerSecond());
   const FollowerCommand c = follower.Update({0.0, 0.0}, -M_PI / 2);  // facing -y: the path is to its left
-  EXPECT_NEAR(c.velocity.y(), 0.5, 1e-9);  // it steps left, towards the path
-  EXPECT_NEAR(c.velocity.z(), 1.0, 1e-9);  // and turns left, at the rate limit
+  // It steps left, towards the path, and turns left at the rate limit; the arc through the point
+  // 0.6 m to its left has a radius of 0.3 m, which 1 rad/s walks at 0.3 m/s.
+  EXPECT_NEAR(c.velocity.x(), 0.0, 1e-9);
+  EXPECT_NEAR(c.velocity.y(), 0.3, 1e-9);
+  EXPECT_NEAR(c.velocity.z(), 1.0, 1e-9);
 }
 
 TEST(WaypointFollower, CanTurnInPlaceTowardsAPathFarOffItsHeadingThenWalk) {

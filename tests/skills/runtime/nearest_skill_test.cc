@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "skills/learning/evaluation/export.h"
@@ -81,6 +82,23 @@ TEST(NearestSkillSelector, ALibraryWithoutSurvivorsIsRefused) {
   EXPECT_THAT(testutil::InputErrorMessage([&] { NearestSkillSelector selector(library); }),
               HasSubstr("no skill survived 500 steps"));
   std::remove(path.c_str());
+}
+
+// Left turns of radius 0.5 (0.25 m/s at 0.5 rad/s) and 1.0, right turns of radius 0.8 (at 0.5
+// rad/s) and, fallen, 0.2: the tightest turn both ways is the right one's 0.8 m, at 0.5 rad/s. A
+// skill turning in place each way makes it 0; a library that turns only left has none.
+TEST(TightestTurnOf, IsTheLargerOfTheTightestDependableTurnsEachWay) {
+  const std::string arcs =
+      WriteLibrary({{0.25, 0, 0.5}, {0.5, 0, 0.5}, {0, 0.4, -0.5}, {0.2, 0, -1.0}, {0.8, 0, 0.05}}, {3});
+  const TightestTurn turn = TightestTurnOf(SkillLibrary::Load(arcs));
+  EXPECT_NEAR(turn.radius, 0.8, 1e-9);
+  EXPECT_NEAR(turn.yaw_rate, 0.5, 1e-9);
+  const std::string in_place = WriteLibrary({{0.25, 0, 0.5}, {0.02, 0, -1.0}, {0.0, 0.01, 1.2}}, {});
+  EXPECT_EQ(TightestTurnOf(SkillLibrary::Load(in_place)).radius, 0.0);
+  const std::string one_way = WriteLibrary({{0.25, 0, 0.5}, {0.8, 0, -0.05}}, {});
+  EXPECT_EQ(TightestTurnOf(SkillLibrary::Load(one_way)).radius, HUGE_VAL);
+  EXPECT_EQ(TightestTurnOf(SkillLibrary::Load(one_way)).yaw_rate, 0.0);
+  for (const std::string& path : {arcs, in_place, one_way}) std::remove(path.c_str());
 }
 
 TEST(NearestSkillSelector, ServesAHierarchicalPolicyWithoutALearnedSelectorAndHoldsItsChoice) {

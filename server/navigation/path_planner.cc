@@ -2,8 +2,9 @@
 
 #include <ompl/base/objectives/PathLengthOptimizationObjective.h>
 #include <ompl/base/goals/GoalSampleableRegion.h>
-#include <ompl/base/spaces/DubinsStateSpace.h>
+#include <ompl/base/spaces/SE2StateSpace.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/SimpleSetup.h>
 #include <ompl/geometric/planners/rrt/InformedRRTstar.h>
 #include <ompl/geometric/planners/rrt/RRTstar.h>
@@ -16,6 +17,8 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
+
+#include "server/navigation/dubins.h"
 
 namespace flsd {
 namespace {
@@ -47,6 +50,7 @@ std::optional<Eigen::Vector2d> WayOut(const Map2D& map, Eigen::Vector2d p) {
 
 constexpr double kCurveStep = 0.05;  // m between the waypoints that trace a curved path
 constexpr double kGoalReach = 0.05;  // m from the goal at which a curved path may end
+constexpr double kGuideSpacing = 0.3;  // m between the points of a straight path that curves pass
 
 Eigen::Vector2d PositionOf(const ob::State* s, bool curved) {
   if (curved) {
@@ -56,6 +60,41 @@ Eigen::Vector2d PositionOf(const ob::State* s, bool curved) {
   const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
   return {v->values[0], v->values[1]};
 }
+
+// Poses joined by Dubins paths (server/navigation/dubins.h): distance is their length, and
+// interpolation walks them. Collision checks are spaced along that length (SE2's default spaces
+// them by the straight distance, too sparse on a path that turns around).
+class DubinsSpace : public ob::SE2StateSpace {
+ public:
+  explicit DubinsSpace(double radius) : radius_(radius) {}
+  bool isMetricSpace() const override { return false; }
+  bool hasSymmetricDistance() const override { return false; }
+  bool hasSymmetricInterpolate() const override { return false; }
+  double distance(const ob::State* a, const ob::State* b) const override { return Path(a, b).length(); }
+  void interpolate(const ob::State* from, const ob::State* to, double t, ob::State* state) const override {
+    const DubinsPath path = Path(from, to);
+    const Pose2 pose = path.At(t * path.length());
+    auto* out = state->as<StateType>();
+    out->setXY(pose.x, pose.y);
+    out->setYaw(std::remainder(pose.yaw, 2.0 * M_PI));
+  }
+  unsigned int validSegmentCount(const ob::State* a, const ob::State* b) const override {
+    return ob::StateSpace::validSegmentCount(a, b);
+  }
+  void sanityChecks() const override {
+    ob::StateSpace::sanityChecks(std::numeric_limits<double>::epsilon(), std::numeric_limits<float>::epsilon(),
+                                 ~(ob::StateSpace::STATESPACE_INTERPOLATION | ob::StateSpace::STATESPACE_TRIANGLE_INEQUALITY |
+                                   ob::StateSpace::STATESPACE_DISTANCE_BOUND | ob::StateSpace::STATESPACE_DISTANCE_SYMMETRIC));
+  }
+
+ private:
+  DubinsPath Path(const ob::State* a, const ob::State* b) const {
+    const auto* p = a->as<StateType>();
+    const auto* q = b->as<StateType>();
+    return DubinsPath({p->getX(), p->getY(), p->getYaw()}, {q->getX(), q->getY(), q->getYaw()}, radius_);
+  }
+  double radius_;
+};
 
 // The goal of a curved plan: its position, at any heading.
 class GoalPosition : public ob::GoalSampleableRegion {
@@ -110,13 +149,52 @@ std::optional<og::PathGeometric> DirectCurve(const ob::SpaceInformationPtr& si, 
   return std::nullopt;
 }
 
+// Dubins curves through the points of a straight-segment path (`guide`, kGuideSpacing apart),
+// leaving the start along its heading, passing points along the bisector of their two segments,
+// and reaching the goal at whichever heading is shortest; a point that no curve reaches from the
+// last one without a loop is skipped, if the next is within two turning radii. Then shortened
+// where a curve can skip points. A near-shortest path where the straight one leaves room to turn
+// (not through a gap narrower than the turn); none where a curve is blocked.
+std::optional<og::PathGeometric> CurvesThrough(const ob::SpaceInformationPtr& si, const ob::ScopedState<>& from,
+                                               const std::vector<Eigen::Vector2d>& guide, double turning_radius) {
+  const std::vector<Eigen::Vector2d> points = Densify(guide, kGuideSpacing);
+  og::PathGeometric path(si, from.get());
+  ob::ScopedState<> last = from;
+  Eigen::Vector2d last_point = points.front();
+  for (size_t i = 1; i + 1 < points.size(); ++i) {
+    const Eigen::Vector2d direction =
+        (points[i] - points[i - 1]).normalized() + (points[i + 1] - points[i]).normalized();
+    ob::ScopedState<> at(si->getStateSpace());
+    at[0] = points[i].x();
+    at[1] = points[i].y();
+    at[2] = std::atan2(direction.y(), direction.x());
+    const bool loops = si->distance(last.get(), at.get()) > (points[i] - last_point).norm() + turning_radius;
+    if (!loops && si->isValid(at.get()) && si->checkMotion(last.get(), at.get())) {
+      path.append(at.get());
+      last = at;
+      last_point = points[i];
+    } else if ((points[i + 1] - last_point).norm() > 2.0 * turning_radius) {
+      return std::nullopt;
+    }
+  }
+  std::optional<og::PathGeometric> end = DirectCurve(si, last, points.back());
+  if (!end) return std::nullopt;
+  path.append(*end);
+  og::PathSimplifier simplifier(si);
+  simplifier.reduceVertices(path);
+  simplifier.shortcutPath(path);
+  return path;
+}
+
 // The path's waypoints on `map` with `margin` beyond the robot's radius, or none: the simplified
-// path's corners, or with a turning radius, points along its curves. States near the start need
-// only be outside obstacles (a robot that strayed into the margin walks back out), and states
-// near the goal need only be free.
+// path's corners, or with a turning radius, points along its curves: a direct curve in the open,
+// else curves through the points of `guide` (the straight-segment path), else RRT*'s. States near
+// the start need only be outside obstacles (a robot that strayed into the margin walks back out),
+// and states near the goal need only be free.
 std::optional<std::vector<Eigen::Vector2d>> Solve(const Map2D& map, const Eigen::Vector2d& start, double start_yaw,
                                                   const Eigen::Vector2d& goal, const PlannerOptions& options,
-                                                  double margin, double turning_radius) {
+                                                  double margin, double turning_radius,
+                                                  const std::vector<Eigen::Vector2d>& guide = {}) {
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
   const bool curved = turning_radius > 0.0;
   ob::RealVectorBounds bounds(2);
@@ -126,7 +204,7 @@ std::optional<std::vector<Eigen::Vector2d>> Solve(const Map2D& map, const Eigen:
   bounds.setHigh(1, map.y_max);
   ob::StateSpacePtr space;
   if (curved) {
-    auto dubins = std::make_shared<ob::DubinsStateSpace>(turning_radius);
+    auto dubins = std::make_shared<DubinsSpace>(turning_radius);
     dubins->setBounds(bounds);
     space = dubins;
   } else {
@@ -151,6 +229,9 @@ std::optional<std::vector<Eigen::Vector2d>> Solve(const Map2D& map, const Eigen:
     from[2] = start_yaw;
     si->setup();  // the motion validator, at the resolution above
     if (std::optional<og::PathGeometric> direct = DirectCurve(si, from, goal)) return PointsAlong(*direct);
+    if (std::optional<og::PathGeometric> through = CurvesThrough(si, from, guide, turning_radius)) {
+      return PointsAlong(*through);
+    }
     setup.setStartState(from);
     setup.setGoal(std::make_shared<GoalPosition>(si, goal));
   } else {
@@ -259,7 +340,7 @@ PlannedPath PlanPath(const Map2D& map, const Eigen::Vector2d& start, const Eigen
     const double detour = PolylineLength(*points) + 2.0 * M_PI * options.turning_radius;
     for (size_t m = 0; m < margins.size() && options.turning_radius > 0.0; ++m) {
       std::optional<std::vector<Eigen::Vector2d>> curve =
-          Solve(map, from, start_yaw, goal, options, margins[m], options.turning_radius);
+          Solve(map, from, start_yaw, goal, options, margins[m], options.turning_radius, *points);
       if (curve && PolylineLength(*curve) <= detour) {
         points = std::move(curve);
         margin = margins[m];

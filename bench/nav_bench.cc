@@ -41,7 +41,7 @@ std::vector<Goal> DrawGoals(const Map2D& map, int count, double min_distance, Rn
     PlannerOptions options;
     options.time_limit = 0.2;
     const PlannedPath path = PlanPath(map, start, goal, options);
-    if (path.status == PlannedPath::Status::kFound) goals.push_back({start, goal, path.length});  // at no turning radius
+    if (path.status == PlannedPath::Status::kFound) goals.push_back({start, goal, path.length});
   }
   return goals;
 }

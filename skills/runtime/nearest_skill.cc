@@ -16,9 +16,9 @@ bool Dependable(const SkillDescriptor& d) {
          (!d.randomized_survival_steps || Survives(*d.randomized_survival_steps));
 }
 
-constexpr double kMoverSpeed = 0.05;    // m/s
-constexpr double kTurningRate = 0.1;    // rad/s
-constexpr double kInPlaceRadius = 0.1;  // m
+constexpr double kInPlaceSpeed = 0.05;  // m/s of travel under which a turn is in place
+constexpr double kTurningRate = 0.1;    // rad/s a skill turns at least to count as a turn
+constexpr double kInPlaceRadius = 0.1;  // m under which the tightest turn both ways is in place
 
 }  // namespace
 
@@ -27,7 +27,7 @@ TightestTurn TightestTurnOf(const SkillLibrary& library) {
   for (const SkillDescriptor& d : library.skills()) {
     const double speed = d.mean_linear_velocity.head<2>().norm(), rate = d.mean_angular_velocity.z();
     if (!Dependable(d) || std::abs(rate) < kTurningRate) continue;
-    const double radius = speed < kMoverSpeed ? 0.0 : speed / std::abs(rate);
+    const double radius = speed < kInPlaceSpeed ? 0.0 : speed / std::abs(rate);
     TightestTurn& tightest = side[rate > 0.0];
     if (radius < tightest.radius) tightest = {radius, std::abs(rate)};
   }

@@ -40,9 +40,9 @@ class NearestSkillSelector {
 
 // The tightest arc the library's dependable skills (those NearestSkillSelector chooses from) walk
 // both ways: the larger of the tightest left and right turns' radii, each speed / |yaw rate| over
-// the skills that turn at least kTurningRate, and the lower of those two skills' yaw rates.
-// radius is 0 if a skill turns in place each way (under kInPlaceRadius): such a library needs no
-// turning radius. Infinite if it turns only one way, or not at all (yaw_rate 0).
+// the skills that turn at least 0.1 rad/s, and the lower of those two skills' yaw rates. radius is
+// 0 if a skill turns in place each way (a radius under 0.1 m, or under 0.05 m/s of travel): such a
+// library needs no turning radius. Infinite if it turns only one way, or not at all (yaw_rate 0).
 struct TightestTurn {
   double radius = HUGE_VAL;  // m
   double yaw_rate = 0.0;     // rad/s

@@ -157,6 +157,7 @@ std::optional<og::PathGeometric> DirectCurve(const ob::SpaceInformationPtr& si, 
 // (not through a gap narrower than the turn); none where a curve is blocked.
 std::optional<og::PathGeometric> CurvesThrough(const ob::SpaceInformationPtr& si, const ob::ScopedState<>& from,
                                                const std::vector<Eigen::Vector2d>& guide, double turning_radius) {
+  if (guide.size() < 2) return std::nullopt;
   const std::vector<Eigen::Vector2d> points = Densify(guide, kGuideSpacing);
   og::PathGeometric path(si, from.get());
   ob::ScopedState<> last = from;

@@ -12,9 +12,9 @@ namespace {
 
 using Status = PlannedPath::Status;
 
-// OMPL checks a segment every 2.8 cm; a chord between two checks can dip into a rounded,
-// inflated corner by s^2 / 8r, 0.3 mm here, and a chord between a curved path's points 5 cm
-// apart cuts 0.5 mm inside a 0.6 m turn. 2 mm of the 35 cm inflation is allowed for them.
+// OMPL checks a segment every 2 cm; a chord between two checks can dip into a rounded, inflated
+// corner by s^2 / 8r, 0.15 mm here, and a chord between a curved path's points 5 cm apart cuts
+// 0.5 mm inside a 0.6 m turn. 2 mm of the 35 cm inflation is allowed for them.
 void ExpectCollisionFree(const Map2D& map, const PlannedPath& path) {
   for (size_t i = 1; i < path.waypoints.size(); ++i) {
     const Eigen::Vector2d a = path.waypoints[i - 1], b = path.waypoints[i];

@@ -112,21 +112,27 @@ nlohmann::json MeasureControlLoop(const SkillLibrary& library, double seconds) {
 
 nlohmann::json RunPolicyBenchmark(const PolicyBenchOptions& options) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(options.library));
-  const int obs_size = library.policy_obs_size();
+  // Skill 0 on random motion and previous action: skilld's path, from o^m to the action.
   torch::manual_seed(1);
-  const torch::Tensor obs = torch::randn({1, obs_size});
-  const float* obs_data = obs.data_ptr<float>();
+  const torch::Tensor motion = torch::randn({kMotionObsSize});
+  const torch::Tensor previous = torch::randn({kActionSize});
+  const SkillDescriptor& skill = library.skills()[0];
+  const SkillPolicy& policy = library.policies()[skill.policy];
+  const torch::Tensor obs = torch::zeros({1, PolicyObservationSize(policy.num_skills)});
+  BuildPolicyObservation(motion.data_ptr<float>(), previous.data_ptr<float>(), skill.policy_skill, policy.num_skills,
+                         obs.data_ptr<float>());
 
   PolicyRunner runner(library);
   std::array<float, kActionSize> action{};
-  for (int i = 0; i < 100; ++i) runner.Act(obs_data, action.data());
+  auto act = [&] { runner.Act(motion.data_ptr<float>(), previous.data_ptr<float>(), 0, action.data()); };
+  for (int i = 0; i < 100; ++i) act();
   auto start = Clock::now();
-  for (int i = 0; i < options.calls; ++i) runner.Act(obs_data, action.data());
+  for (int i = 0; i < options.calls; ++i) act();
   const double eigen_us = MicrosecondsPerCall(Clock::now() - start, options.calls);
 
   torch::set_num_threads(1);  // one observation: threads only add hand-off cost
   torch::NoGradGuard no_grad;
-  TorchPolicy torch_policy(library.policy());
+  TorchPolicy torch_policy(policy.network);
   torch::Tensor torch_action;
   const int torch_calls = std::max(1, options.calls / 10);
   for (int i = 0; i < 50; ++i) torch_action = torch_policy.Forward(obs);

@@ -75,14 +75,13 @@ int FrameInterval(int fps) { return std::max(1, static_cast<int>(std::lround(1.0
 class SkillRollout {
  public:
   SkillRollout(const SkillLibrary& library, const mjModel& model, int skill, int steps, uint64_t seed)
-      : library_(library), skill_(skill), env_(model, NominalConfig(steps, library), seed), policy_(library) {
+      : skill_(skill), env_(model, NominalConfig(steps, library), seed), policy_(library) {
     env_.Reset();
   }
 
   Termination Step() {
     BuildMotionObservation(env_.state(), motion_.data());
-    BuildPolicyObservation(motion_.data(), previous_.data(), skill_, library_.num_skills(), policy_obs_.data());
-    policy_.Act(policy_obs_.data(), action_.data());
+    policy_.Act(motion_.data(), previous_.data(), skill_, action_.data());
     previous_ = action_;
     ++steps_done_;
     return env_.Step(action_.data());
@@ -102,12 +101,10 @@ class SkillRollout {
     return config;
   }
 
-  const SkillLibrary& library_;
   int skill_;
   Env env_;
   PolicyRunner policy_;
   std::vector<float> motion_ = std::vector<float>(kMotionObsSize);
-  std::vector<float> policy_obs_ = std::vector<float>(library_.policy_obs_size());
   std::vector<float> action_ = std::vector<float>(kActionSize, 0.0f);
   std::vector<float> previous_ = std::vector<float>(kActionSize, 0.0f);
   int steps_done_ = 0;

@@ -42,8 +42,7 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       supervisor_(config.safety),
       runner_(library),
       hierarchy_(MakeHierarchy(library, config.selector)),
-      target_filter_(library.action_filter_hz(), library.action_filter_order()),
-      policy_obs_(PolicyObservationSize(library.num_skills())) {
+      target_filter_(library.action_filter_hz(), library.action_filter_order()) {
   state_ = backend_.Read();
   Publish();
 }
@@ -400,9 +399,7 @@ JointCommand Controller::StandCommand() {
 
 JointCommand Controller::SkillCommand() {
   BuildMotionObservation(state_, motion_obs_.data());
-  BuildPolicyObservation(motion_obs_.data(), previous_action_.data(), skill_, library_.num_skills(),
-                         policy_obs_.data());
-  runner_.Act(policy_obs_.data(), action_.data());
+  runner_.Act(motion_obs_.data(), previous_action_.data(), skill_, action_.data());
   return PolicyCommand();
 }
 

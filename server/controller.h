@@ -178,7 +178,6 @@ class Controller {
   std::array<double, 3> velocity_command_{};
   std::array<float, kMotionObsSize> motion_obs_{};
   std::array<float, kActionSize> action_{}, previous_action_{};
-  std::vector<float> policy_obs_;  // sized once, at construction
 
   // Shared with other threads.
   mutable std::mutex queue_mutex_;

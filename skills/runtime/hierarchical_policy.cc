@@ -31,8 +31,7 @@ HierarchicalPolicy::HierarchicalPolicy(const SkillLibrary& library, SelectorKind
       kind_(kind),
       policy_(library),
       task_obs_(kTaskObsSize),
-      logits_(library.num_skills()),
-      policy_obs_(library.policy_obs_size()) {
+      logits_(library.num_skills()) {
   if (kind == SelectorKind::kLearned) {
     selector_.emplace(SelectorOf(library));
   } else {
@@ -66,8 +65,7 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
     ticks_held_ = 0;
   }
   ++ticks_held_;
-  BuildPolicyObservation(motion_obs, previous_action, held_skill_, library_.num_skills(), policy_obs_.data());
-  policy_.Act(policy_obs_.data(), action);
+  policy_.Act(motion_obs, previous_action, held_skill_, action);
   return held_skill_;
 }
 

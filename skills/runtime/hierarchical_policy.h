@@ -50,7 +50,7 @@ class HierarchicalPolicy {
   std::optional<NetworkRunner> selector_;
   std::optional<NearestSkillSelector> nearest_;
   PolicyRunner policy_;
-  std::vector<float> task_obs_, logits_, policy_obs_;
+  std::vector<float> task_obs_, logits_;
   int held_skill_ = -1, ticks_held_ = 0;
 };
 

@@ -16,7 +16,9 @@
 namespace flsd {
 
 inline constexpr const char* kSkillLibraryFormat = "flsd-skill-library";  // the safetensors "format" entry
-inline constexpr int kSkillLibraryVersion = 1;
+// Version 2 holds one or more skill policies (`flsd compose-library` joins libraries); version 1,
+// one policy, is still read.
+inline constexpr int kSkillLibraryVersion = 2;
 
 // A library's own top-level values. Visit calls v(pointer, field, required, min, max); a value
 // that is not required may be absent from older libraries and keeps its default: one from before
@@ -39,9 +41,10 @@ inline constexpr int kSurvivalSteps = 500;
 inline bool Survives(int survival_steps) { return survival_steps > kSurvivalSteps; }
 
 // Calls v(pointer, value) for every fact, with value an int, a double, a std::string, a
-// std::vector<double> or a std::vector<std::string>; num_skills sizes the policy's observation.
+// std::vector<double> or a std::vector<std::string>. A policy's o^p ends with a one-hot over its
+// own skills: /policies/P/num_skills of them (PolicyFacts).
 template <class V>
-void VisitLibraryFacts(V&& v, int num_skills) {
+void VisitLibraryFacts(V&& v) {
   v("/format", std::string(kSkillLibraryFormat));
   v("/format_version", kSkillLibraryVersion);
   v("/robot", std::string("unitree_a1"));
@@ -56,8 +59,6 @@ void VisitLibraryFacts(V&& v, int num_skills) {
   v("/observation/motion_size", kMotionObsSize);
   v("/observation/policy/motion", kMotionObsSize);
   v("/observation/policy/previous_action", kActionSize);
-  v("/observation/policy/skill_onehot", num_skills);
-  v("/observation/policy_size", PolicyObservationSize(num_skills));
   v("/observation/normalized_size", kMotionObsSize + kActionSize);
   v("/action/size", kActionSize);
   v("/action/scale", a1::kActionScale);
@@ -77,7 +78,15 @@ void VisitLibraryFacts(V&& v, int num_skills) {
   }
   v("/limits/joint_min", joint_min);
   v("/limits/joint_max", joint_max);
-  v("/policy/activation", std::string("elu"));
+}
+
+// The facts of policy P of a library with its `num_skills`, at /policies/P.
+template <class V>
+void VisitPolicyFacts(V&& v, int policy, int num_skills) {
+  const std::string at = "/policies/" + std::to_string(policy);
+  v(at + "/activation", std::string("elu"));
+  v(at + "/num_skills", num_skills);
+  v(at + "/observation_size", PolicyObservationSize(num_skills));
 }
 
 }  // namespace flsd

@@ -226,8 +226,8 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
 
   // The version first: what else a library holds, and where, depends on it.
   const int version = m.Get<int>("/format_version");
-  if (version != kSkillLibraryVersion) {
-    m.Fail("/format_version", "is " + std::to_string(version) + " but this build reads version " +
+  if (version != 1 && version != kSkillLibraryVersion) {
+    m.Fail("/format_version", "is " + std::to_string(version) + " but this build reads versions 1 to " +
                                   std::to_string(kSkillLibraryVersion));
   }
   LibraryValues values;
@@ -243,12 +243,36 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   lib.num_skills_ = values.num_skills;
   lib.action_filter_hz_ = values.action_filter_hz;
   lib.action_filter_order_ = values.action_filter_order;
-  lib.policy_obs_size_ = PolicyObservationSize(lib.num_skills_);
-  VisitLibraryFacts([&](const std::string& pointer, const auto& expected) { m.Expect(pointer, expected); },
-                    lib.num_skills_);
+  VisitLibraryFacts([&](const std::string& pointer, const auto& expected) {
+    if (pointer != "/format_version") m.Expect(pointer, expected);
+  });
 
-  lib.policy_ = ReadNetwork(file, m, "/policy", "policy.", "normalizer.", lib.policy_obs_size_, kActionSize,
-                            kMotionObsSize + kActionSize);
+  const int normalized = kMotionObsSize + kActionSize;
+  if (version == 1) {
+    // One policy over all the skills, described at /policy and /training.
+    SkillPolicy policy;
+    policy.num_skills = lib.num_skills_;
+    policy.network = ReadNetwork(file, m, "/policy", "policy.", "normalizer.", PolicyObservationSize(lib.num_skills_),
+                                 kActionSize, normalized);
+    policy.training = m.At("/training");
+    lib.policies_.push_back(std::move(policy));
+  } else {
+    const nlohmann::json& policies = m.At("/policies");
+    if (!policies.is_array() || policies.empty()) m.Fail("/policies", "must list at least one policy");
+    for (size_t p = 0; p < policies.size(); ++p) {
+      const std::string at = "/policies/" + std::to_string(p);
+      SkillPolicy policy;
+      policy.num_skills = m.Get<int>(at + "/num_skills");
+      if (policy.num_skills < 1) m.Fail(at + "/num_skills", "must be at least 1");
+      VisitPolicyFacts([&](const std::string& pointer, const auto& expected) { m.Expect(pointer, expected); },
+                       static_cast<int>(p), policy.num_skills);
+      const std::string tensors = "policies." + std::to_string(p) + ".";
+      policy.network = ReadNetwork(file, m, at, tensors, tensors + "normalizer.",
+                                   PolicyObservationSize(policy.num_skills), kActionSize, normalized);
+      policy.training = m.At(at + "/training");
+      lib.policies_.push_back(std::move(policy));
+    }
+  }
   if (m.Has("/selector")) {
     SelectorNetwork selector;
     m.ExpectNumber("/selector/observation/motion", kMotionObsSize);
@@ -279,11 +303,26 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
     const std::string at = "/skills/" + std::to_string(k);
     SkillDescriptor d;
     d.mirror_skill = k;
+    d.policy_skill = k;
     DescriptorReader reader{m, at};
     d.Visit(reader);
     if (d.id != k) m.Fail(at + "/id", "is " + std::to_string(d.id) + "; expected " + std::to_string(k));
     if (d.mirror_skill < 0 || d.mirror_skill >= lib.num_skills_) {
       m.Fail(at + "/mirror_skill", "must be a skill id, 0 to " + std::to_string(lib.num_skills_ - 1));
+    }
+    const int num_policies = static_cast<int>(lib.policies_.size());
+    if (d.policy < 0 || d.policy >= num_policies) {
+      m.Fail(at + "/policy", "must be a policy index, 0 to " + std::to_string(num_policies - 1));
+    }
+    const int policy_skills = lib.policies_[d.policy].num_skills;
+    if (d.policy_skill < 0 || d.policy_skill >= policy_skills) {
+      m.Fail(at + "/policy_skill", "must be 0 to " + std::to_string(policy_skills - 1) + " (policy " +
+                                       std::to_string(d.policy) + "'s skills)");
+    }
+    for (const SkillDescriptor& before : lib.skills_) {
+      if (before.policy == d.policy && before.policy_skill == d.policy_skill) {
+        m.Fail(at + "/policy_skill", "is skill " + std::to_string(before.id) + "'s too");
+      }
     }
     lib.skills_.push_back(d);
   }
@@ -320,6 +359,26 @@ void NetworkRunner::Run(const float* input, float* output) {
     }
   }
   Eigen::Map<Eigen::VectorXf>(output, activations_.back().size()) = activations_.back();
+}
+
+PolicyRunner::PolicyRunner(const SkillLibrary& library) : library_(library) {
+  int largest = 0;
+  for (const SkillPolicy& policy : library.policies()) {
+    runners_.emplace_back(policy.network);
+    largest = std::max(largest, PolicyObservationSize(policy.num_skills));
+  }
+  policy_obs_.resize(largest);
+}
+
+void PolicyRunner::Act(const float* motion_obs, const float* previous_action, int skill, float* action) {
+  if (skill < 0 || skill >= library_.num_skills()) {
+    throw InputError("skill " + std::to_string(skill) + " is not in " + library_.path() + " (0 to " +
+                     std::to_string(library_.num_skills() - 1) + ")");
+  }
+  const SkillDescriptor& d = library_.skills()[skill];
+  BuildPolicyObservation(motion_obs, previous_action, d.policy_skill, library_.policies()[d.policy].num_skills,
+                         policy_obs_.data());
+  runners_[d.policy].Run(policy_obs_.data(), action);
 }
 
 std::array<double, 3> ClipCommand(const SelectorNetwork& s, const double* command) {

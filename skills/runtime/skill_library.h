@@ -24,6 +24,10 @@ struct SkillDescriptor {
   bool fell = false;
   // Absent from libraries exported before they were recorded:
   int mirror_skill = 0;  // the skill trained as this one's left-right mirror image (itself if none)
+  // Which of the library's policies runs it, and its index in that policy's skill one-hot.
+  // Absent from version 1 libraries: one policy, in which skill k is k.
+  int policy = 0;
+  int policy_skill = 0;
   std::optional<double> mean_stance_foot_speed;  // m/s: how fast its stance feet slide
   std::optional<int> randomized_survival_steps;  // under the training randomisation
   bool randomized_fell = false;
@@ -35,6 +39,8 @@ struct SkillDescriptor {
   void Visit(V& v) {
     v("id", id, true);
     v("mirror_skill", mirror_skill, false);  // absent: the skill is its own mirror image
+    v("policy", policy, false);
+    v("policy_skill", policy_skill, false);
     v("mean_linear_velocity", mean_linear_velocity, true);
     v("mean_angular_velocity", mean_angular_velocity, true);
     v("mean_base_height", mean_base_height, true);
@@ -89,6 +95,15 @@ struct SelectorNetwork {
 // planar part zeroed below the trained min_planar_speed.
 std::array<double, 3> ClipCommand(const SelectorNetwork& selector, const double* command);
 
+// One skill-conditioned policy of a library: its network reads o^p with a one-hot over its own
+// num_skills skills (robot/observation.h). `training` is what the library records of the run that
+// trained it (method, iteration, config, provenance).
+struct SkillPolicy {
+  DenseNetwork network;
+  int num_skills = 0;
+  nlohmann::json training;
+};
+
 class SkillLibrary {
  public:
   // Reads and validates `path`. Throws InputError naming the file and the first field that is
@@ -96,8 +111,8 @@ class SkillLibrary {
   static SkillLibrary Load(const std::string& path);
 
   int num_skills() const { return num_skills_; }
-  int policy_obs_size() const { return policy_obs_size_; }
-  const DenseNetwork& policy() const { return policy_; }
+  // The policies that run the skills (SkillDescriptor::policy); most libraries hold one.
+  const std::vector<SkillPolicy>& policies() const { return policies_; }
   // The skill selector, if the library carries one (flsd export-selector).
   const std::optional<SelectorNetwork>& selector() const { return selector_; }
   const std::vector<SkillDescriptor>& skills() const { return skills_; }
@@ -115,10 +130,9 @@ class SkillLibrary {
   std::string path_, fingerprint_;
   nlohmann::json metadata_;
   int num_skills_ = 0;
-  int policy_obs_size_ = 0;
   double action_filter_hz_ = 0.0;
   int action_filter_order_ = 1;
-  DenseNetwork policy_;
+  std::vector<SkillPolicy> policies_;
   std::optional<SelectorNetwork> selector_;
   std::vector<SkillDescriptor> skills_;
 };
@@ -136,15 +150,19 @@ class NetworkRunner {
   std::vector<Eigen::VectorXf> activations_;  // one per layer output, plus the normalised input
 };
 
-// The library's skill policy. Holds a reference to `library`, which must outlive it.
+// Runs the library's skills, each on its own policy. Holds a reference to `library`, which must
+// outlive it. Act() does no heap allocation.
 class PolicyRunner {
  public:
-  explicit PolicyRunner(const SkillLibrary& library) : runner_(library.policy()) {}
-  // policy_obs: the raw o^p (PolicyObservationSize floats, robot/observation.h); action: 12.
-  void Act(const float* policy_obs, float* action) { runner_.Run(policy_obs, action); }
+  explicit PolicyRunner(const SkillLibrary& library);
+  // motion_obs: o^m (kMotionObsSize floats); previous_action: the last action (12); skill: the
+  // library's skill id. Writes the 12 action values. Throws InputError for an unknown skill.
+  void Act(const float* motion_obs, const float* previous_action, int skill, float* action);
 
  private:
-  NetworkRunner runner_;
+  const SkillLibrary& library_;
+  std::vector<NetworkRunner> runners_;  // one per policy
+  std::vector<float> policy_obs_;       // sized for the largest policy
 };
 
 }  // namespace flsd

@@ -49,15 +49,14 @@ Errors Walk(int skill, double seconds, const EstimatorConfig& estimator_config =
   filter.Reset(env.state().joint_position);
   Rng rng(7);
 
-  std::vector<float> motion(kMotionObsSize), obs(PolicyObservationSize(library.num_skills()));
+  std::vector<float> motion(kMotionObsSize);
   std::array<float, kActionSize> action{}, previous{};
   Eigen::Vector3d previous_velocity = Eigen::Vector3d::Zero();
   double velocity_sq = 0.0, height_sq = 0.0;
   int samples = 0;
   for (int step = 0; step < static_cast<int>(seconds / a1::kControlDt); ++step) {
     BuildMotionObservation(env.state(), motion.data());
-    BuildPolicyObservation(motion.data(), previous.data(), skill, library.num_skills(), obs.data());
-    policy.Act(obs.data(), action.data());
+    policy.Act(motion.data(), previous.data(), skill, action.data());
     previous = action;
     const JointCommand command = JointCommand::Track(filter.Apply(JointTargetsFromAction(action.data())));
     for (int sub = 0; sub < a1::kDecimation; ++sub) {

@@ -376,11 +376,10 @@ TEST(ControllerTargetFilter, ASkillRunsBehindTheLibrarysFilterFromThePoseItStart
     controller.Tick();
   }
   // The policy's own first action, as the controller computes it.
-  std::vector<float> motion(kMotionObsSize), obs(library.policy_obs_size()), action(kActionSize);
+  std::vector<float> motion(kMotionObsSize), action(kActionSize);
   const std::vector<float> zero(kActionSize, 0.0f);
   BuildMotionObservation(start, motion.data());
-  BuildPolicyObservation(motion.data(), zero.data(), 3, library.num_skills(), obs.data());
-  PolicyRunner(library).Act(obs.data(), action.data());
+  PolicyRunner(library).Act(motion.data(), zero.data(), 3, action.data());
   const a1::JointArray<double> unfiltered = JointTargetsFromAction(action.data());
   const double g = 1.0 - std::exp(-2.0 * M_PI * 4.0 * a1::kControlDt);
   double largest_step = 0.0;

@@ -1,4 +1,4 @@
-// flsd eval, export, export-selector and track.
+// flsd eval, export, export-selector, compose-library and track.
 
 #include <cstdio>
 #include <memory>
@@ -9,6 +9,7 @@
 #include "skills/learning/evaluation/export.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/learning/runners/training_run.h"
+#include "skills/runtime/compose_library.h"
 #include "skills/runtime/skill_library.h"
 #include "tools/flsd/subcommands.h"
 
@@ -73,6 +74,22 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   out.push_back({export_selector_cmd, [selector] {
                    ConfigureTorchThreads(0);
                    return PrintJson(ExportSelector(selector->run_dir, selector->library_path));
+                 }});
+
+  struct ComposeArgs {
+    std::vector<std::string> parts;
+    std::string output;
+  };
+  auto compose = std::make_shared<ComposeArgs>();
+  CLI::App* compose_cmd = app.add_subcommand(
+      "compose-library", "Join skills of several libraries into one; each skill keeps the policy that trained it");
+  compose_cmd->add_option("libraries", compose->parts, "LIBRARY (all its skills) or LIBRARY:K,K,... (those skills), in order")
+      ->required();
+  compose_cmd->add_option("-o,--output", compose->output, "Library file to write")->required();
+  out.push_back({compose_cmd, [compose] {
+                   std::vector<LibraryPart> parts;
+                   for (const std::string& text : compose->parts) parts.push_back(ParseLibraryPart(text));
+                   return PrintJson(ComposeLibraries(parts, compose->output));
                  }});
 
   struct TrackArgs {

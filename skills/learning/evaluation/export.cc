@@ -56,26 +56,29 @@ std::string ReadCommits(const std::string& path) {
 nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPolicy& policy, const Evaluation& evaluation,
                                     const Evaluation& randomized, const ExportProvenance& provenance) {
   nlohmann::json metadata;
-  VisitLibraryFacts([&](const std::string& pointer, const auto& value) { metadata[nlohmann::json::json_pointer(pointer)] = value; },
-                    config.num_skills);
+  auto write = [&](const std::string& pointer, const auto& value) {
+    metadata[nlohmann::json::json_pointer(pointer)] = value;
+  };
+  VisitLibraryFacts(write);
   LibraryValues values{config.num_skills, config.env.action_filter_hz, config.env.action_filter_order};
-  values.Visit([&](const char* pointer, const auto& field, bool, double, double) {
-    metadata[nlohmann::json::json_pointer(pointer)] = field;
-  });
-  metadata["policy"]["hidden"] = config.policy.actor_hidden;
-  metadata["policy"]["layers"] = config.policy.actor_hidden.size() + 1;
-  metadata["policy"]["normalizer_eps"] = RunningNormalizerImpl::kEps;
-  metadata["training"] = {{"method", config.method},
-                          {"iteration", policy.iteration},
-                          {"env_steps", policy.env_steps},
-                          {"config", ToYamlString(config)},
-                          {"run", provenance.run},
-                          {"commits", provenance.commits},
-                          {"export_commit", provenance.export_commit}};
+  values.Visit([&](const char* pointer, const auto& field, bool, double, double) { write(pointer, field); });
+  // One policy: the run's.
+  VisitPolicyFacts(write, 0, config.num_skills);
+  nlohmann::json& run_policy = metadata["policies"][0];
+  run_policy["hidden"] = config.policy.actor_hidden;
+  run_policy["layers"] = config.policy.actor_hidden.size() + 1;
+  run_policy["normalizer_eps"] = RunningNormalizerImpl::kEps;
+  run_policy["training"] = {{"method", config.method},
+                            {"iteration", policy.iteration},
+                            {"env_steps", policy.env_steps},
+                            {"config", ToYamlString(config)},
+                            {"run", provenance.run},
+                            {"commits", provenance.commits},
+                            {"export_commit", provenance.export_commit}};
   nlohmann::json evaluation_json = EvaluationJson(evaluation);
   evaluation_json.erase("skills");  // per skill, the descriptors below
-  metadata["evaluation"] = evaluation_json;
-  metadata["randomized_evaluation"] = EvaluationJson(randomized);
+  run_policy["evaluation"] = evaluation_json;
+  run_policy["randomized_evaluation"] = EvaluationJson(randomized);
   nlohmann::json skills = nlohmann::json::array();
   const mirror::SkillPairing pairing = SkillPairingOf(config.num_skills, config.symmetry);
   for (const SkillSummary& s : evaluation.skills) {
@@ -83,6 +86,8 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
     SkillDescriptor d;
     d.id = s.skill;
     d.mirror_skill = pairing(s.skill);
+    d.policy = 0;
+    d.policy_skill = s.skill;
     d.mean_linear_velocity = Eigen::Vector3d(s.mean_linear_velocity.data());
     d.mean_angular_velocity = Eigen::Vector3d(s.mean_angular_velocity.data());
     d.mean_base_height = s.mean_base_height;
@@ -104,7 +109,7 @@ void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const
   // One string holds the whole description: safetensors metadata values must be strings.
   file.metadata["format"] = kSkillLibraryFormat;
   file.metadata["flsd"] = SkillLibraryMetadata(config, policy, evaluation, randomized, provenance).dump();
-  AddNetwork(file, policy.policy->actor(), policy.normalizer, "policy.", "normalizer.");
+  AddNetwork(file, policy.policy->actor(), policy.normalizer, "policies.0.", "policies.0.normalizer.");
   WriteSafeTensors(path, file);
 }
 

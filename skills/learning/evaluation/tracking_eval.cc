@@ -104,7 +104,8 @@ nlohmann::json TrackingJson(const TrackingEvaluation& e) {
 }
 
 EnvConfig TrainingEnvOf(const SkillLibrary& library) {
-  const nlohmann::json& training = library.metadata().at("training");
+  // The first policy's: a composed library's policies were trained in one env (compose_library.h).
+  const nlohmann::json& training = library.policies().front().training;
   const YAML::Node config = YAML::Load(training.at("config").get<std::string>());
   EnvConfig env;
   if (config["env"]) ReadConfig(config["env"], library.path() + ": training config: env.", env);

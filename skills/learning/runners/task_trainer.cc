@@ -135,14 +135,11 @@ void TaskTrainer::JointActions(const torch::Tensor& policy_action) {
     std::copy(chosen, chosen + num_envs_ * kActionSize, joint_actions_.begin());
     return;
   }
-  const int num_skills = library_->num_skills();
   const float* motion = task_.vec_env().motion_obs();
   task_.vec_env().pool().ParallelFor(num_envs_, [&](int begin, int end) {
-    std::vector<float> policy_obs(PolicyObservationSize(num_skills));
     for (int i = begin; i < end; ++i) {
-      BuildPolicyObservation(motion + i * kMotionObsSize, &previous_action_[i * kActionSize],
-                             static_cast<int>(chosen[i]), num_skills, policy_obs.data());
-      skill_runners_[i].Act(policy_obs.data(), &joint_actions_[i * kActionSize]);
+      skill_runners_[i].Act(motion + i * kMotionObsSize, &previous_action_[i * kActionSize], static_cast<int>(chosen[i]),
+                            &joint_actions_[i * kActionSize]);
     }
   });
 }

@@ -34,15 +34,14 @@ void ExpectThreeFastestSkillsKeepTheRobotUpFor10s(const SkillLibrary& library) {
   for (int n = 0; n < 3; ++n) {
     const int skill = skills[n];
     Env env(*model, config, 1);
-    std::vector<float> motion(kMotionObsSize), obs(library.policy_obs_size()), action(kActionSize, 0.0f);
+    std::vector<float> motion(kMotionObsSize), action(kActionSize, 0.0f);
     std::vector<float> previous(kActionSize, 0.0f);
     // The path's length, not the displacement: a skill that turns as it goes walks a circle.
     double path = 0.0;
     for (int t = 0; t < 500; ++t) {  // 10 s at 50 Hz
       const Eigen::Vector3d before = env.state().base_position;
       BuildMotionObservation(env.state(), motion.data());
-      BuildPolicyObservation(motion.data(), previous.data(), skill, library.num_skills(), obs.data());
-      policy.Act(obs.data(), action.data());
+      policy.Act(motion.data(), previous.data(), skill, action.data());
       previous = action;
       const Termination ending = env.Step(action.data());
       ASSERT_FALSE(IsFailure(ending)) << "skill " << skill << " fell at step " << t << ": " << ToString(ending);

@@ -15,6 +15,7 @@
 #include "skills/learning/evaluation/export.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
+#include "tests/skills/runtime/test_libraries.h"
 
 #include "tests/common/malloc_counter.h"
 
@@ -25,61 +26,16 @@ using ::testing::HasSubstr;
 using testutil::InputErrorMessage;
 using testutil::UniqueTempPath;
 
-constexpr int kSkills = 5;
+using testutil::RandomPolicy;
+using testutil::WriteTestLibrary;
 
-TrainConfig SmallConfig() {
-  TrainConfig config;
-  config.num_skills = kSkills;
-  config.policy.actor_hidden = {32, 16};
-  config.policy.critic_hidden = {8};
-  config.symmetry.enabled = true;  // pairs (0, 2) and (1, 3); skill 4 its own mirror image
-  config.symmetry.self_paired_skills = 1;
-  return config;
-}
-
-// A policy with random weights and non-trivial normaliser statistics.
-TrainedPolicy RandomPolicy(const TrainConfig& config) {
-  torch::manual_seed(3);
-  TrainedPolicy p;
-  const int obs = PolicyObservationSize(config.num_skills);
-  p.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
-  p.normalizer = RunningNormalizer(kMotionObsSize + kActionSize);
-  p.normalizer->Update(torch::randn({64, kMotionObsSize + kActionSize}) * 3.0 + 1.0);
-  p.iteration = 7;
-  p.env_steps = 700;
-  return p;
-}
-
-Evaluation FakeEvaluation(int skills) {
-  Evaluation e;
-  e.method = "flsd";
-  for (int k = 0; k < skills; ++k) {
-    SkillSummary s;
-    s.skill = k;
-    s.survival_steps = 1000 - k;
-    s.mean_linear_velocity = {0.1 * k, -0.2, 0.0};
-    s.mean_base_height = 0.25;
-    s.gait_frequency_hz = 2.0;
-    s.mean_stance_foot_speed = 0.01 * k;
-    e.skills.push_back(s);
-  }
-  return e;
-}
-
-// The same skills under the training randomisation: shorter lives, the last one falling.
-Evaluation FakeRandomizedEvaluation(int skills) {
-  Evaluation e = FakeEvaluation(skills);
-  e.randomized = true;
-  for (SkillSummary& s : e.skills) s.survival_steps = 400 - s.skill;
-  e.skills.back().fell = true;
-  return e;
-}
+constexpr int kSkills = 5;  // pairs (0, 2) and (1, 3); skill 4 its own mirror image
 
 class SkillLibraryTest : public ::testing::Test {
  protected:
   void SetUp() override {
     path_ = UniqueTempPath("lib.safetensors");
-    WriteSkillLibrary(path_, config_, policy_, FakeEvaluation(kSkills), FakeRandomizedEvaluation(kSkills), ExportProvenance{"run", "abc", "def"});
+    WriteTestLibrary(path_, config_, policy_);
   }
   void TearDown() override { std::remove(path_.c_str()); }
 
@@ -96,7 +52,7 @@ class SkillLibraryTest : public ::testing::Test {
     return message;
   }
 
-  TrainConfig config_ = SmallConfig();
+  TrainConfig config_ = testutil::SmallLibraryConfig(kSkills);
   TrainedPolicy policy_ = RandomPolicy(config_);
   std::string path_;
 };
@@ -104,15 +60,19 @@ class SkillLibraryTest : public ::testing::Test {
 TEST_F(SkillLibraryTest, LoadsShapesAndDescriptors) {
   const SkillLibrary lib = SkillLibrary::Load(path_);
   EXPECT_EQ(lib.num_skills(), kSkills);
-  EXPECT_EQ(lib.policy_obs_size(), 33 + 12 + kSkills);
-  ASSERT_EQ(lib.policy().layers.size(), 3u);
-  EXPECT_EQ(lib.policy().layers[0].weight.rows(), 32);
-  EXPECT_EQ(lib.policy().layers[0].weight.cols(), 50);
-  EXPECT_EQ(lib.policy().layers[2].weight.rows(), 12);
+  ASSERT_EQ(lib.policies().size(), 1u);
+  const SkillPolicy& policy = lib.policies()[0];
+  EXPECT_EQ(policy.num_skills, kSkills);
+  ASSERT_EQ(policy.network.layers.size(), 3u);
+  EXPECT_EQ(policy.network.layers[0].weight.rows(), 32);
+  EXPECT_EQ(policy.network.layers[0].weight.cols(), 33 + 12 + kSkills);
+  EXPECT_EQ(policy.network.layers[2].weight.rows(), 12);
+  EXPECT_EQ(policy.training["iteration"], 7);
+  EXPECT_EQ(lib.skills()[3].policy, 0);
+  EXPECT_EQ(lib.skills()[3].policy_skill, 3);
   ASSERT_EQ(lib.skills().size(), static_cast<size_t>(kSkills));
   EXPECT_EQ(lib.skills()[3].survival_steps, 997);
   EXPECT_DOUBLE_EQ(lib.skills()[3].mean_linear_velocity.x(), 0.3 * 1.0);
-  EXPECT_EQ(lib.metadata()["training"]["iteration"], 7);
   // What a user reads of a skill beyond its velocities: its mirror image, slip, randomised life.
   EXPECT_EQ(lib.skills()[0].mirror_skill, 2);
   EXPECT_EQ(lib.skills()[3].mirror_skill, 1);
@@ -121,7 +81,7 @@ TEST_F(SkillLibraryTest, LoadsShapesAndDescriptors) {
   EXPECT_EQ(lib.skills()[3].randomized_survival_steps.value(), 397);
   EXPECT_FALSE(lib.skills()[3].randomized_fell);
   EXPECT_TRUE(lib.skills()[4].randomized_fell);
-  EXPECT_EQ(lib.metadata()["randomized_evaluation"]["randomized"], true);
+  EXPECT_EQ(lib.metadata()["policies"][0]["randomized_evaluation"]["randomized"], true);
 }
 
 TEST_F(SkillLibraryTest, MirrorImagesMustPairBothWaysAndOlderLibrariesHaveNone) {
@@ -153,42 +113,80 @@ TEST_F(SkillLibraryTest, DescriptorsRoundTripThroughTheirFieldList) {
   const SkillDescriptor& d = lib.skills()[3];
   const nlohmann::json written = DescriptorJson(d);
   EXPECT_EQ(written, lib.metadata()["skills"][3]);  // export wrote exactly this
-  EXPECT_EQ(written.size(), 11u);
+  EXPECT_EQ(written.size(), 13u);
   EXPECT_EQ(written["mean_linear_velocity"], nlohmann::json({0.1 * 3, -0.2, 0.0}));  // FakeEvaluation's
   SkillDescriptor without_optionals = d;
   without_optionals.mean_stance_foot_speed.reset();
   without_optionals.randomized_survival_steps.reset();
-  EXPECT_EQ(DescriptorJson(without_optionals).size(), 9u);
+  EXPECT_EQ(DescriptorJson(without_optionals).size(), 11u);
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][2].erase("gait_frequency_hz"); }),
               HasSubstr("/skills/2/gait_frequency_hz is missing"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][1]["mean_angular_velocity"] = {0.0, 1.0}; }),
               HasSubstr("/skills/1/mean_angular_velocity must have 3 entries"));
 }
 
-// The Eigen runner and libtorch agree on the same weights and inputs.
+// The Eigen runner and libtorch agree on the same weights and inputs, for every skill.
 TEST_F(SkillLibraryTest, EigenPolicyMatchesLibtorch) {
   const SkillLibrary lib = SkillLibrary::Load(path_);
   PolicyRunner runner(lib);
   torch::NoGradGuard no_grad;
-  const torch::Tensor obs = torch::randn({20, lib.policy_obs_size()}) * 2.0;
+  const torch::Tensor motion = torch::randn({20, kMotionObsSize}) * 2.0;
+  const torch::Tensor previous = torch::randn({20, kActionSize});
+  torch::Tensor obs = torch::zeros({20, PolicyObservationSize(kSkills)});
+  for (int i = 0; i < 20; ++i) {
+    BuildPolicyObservation(motion[i].data_ptr<float>(), previous[i].data_ptr<float>(), i % kSkills, kSkills,
+                           obs[i].data_ptr<float>());
+  }
   const torch::Tensor expected = policy_.policy->ActionMean(NormalizeLeadingColumns(policy_.normalizer, obs));
   for (int i = 0; i < 20; ++i) {
     float action[kActionSize];
-    runner.Act(obs[i].contiguous().data_ptr<float>(), action);
+    runner.Act(motion[i].data_ptr<float>(), previous[i].data_ptr<float>(), i % kSkills, action);
     for (int j = 0; j < kActionSize; ++j) EXPECT_NEAR(action[j], expected[i][j].item<float>(), 2e-5) << i << "," << j;
   }
+  float action[kActionSize];
+  EXPECT_THAT(InputErrorMessage([&] { runner.Act(motion[0].data_ptr<float>(), previous[0].data_ptr<float>(), kSkills, action); }),
+              HasSubstr("skill 5 is not in"));
 }
 
 TEST_F(SkillLibraryTest, ActAllocatesNothing) {
   const SkillLibrary lib = SkillLibrary::Load(path_);
   PolicyRunner runner(lib);
-  std::vector<float> obs(lib.policy_obs_size(), 0.5f);
+  std::vector<float> motion(kMotionObsSize, 0.5f), previous(kActionSize, 0.1f);
   float action[kActionSize];
-  runner.Act(obs.data(), action);
+  runner.Act(motion.data(), previous.data(), 2, action);
   EXPECT_EQ(testutil::CountMallocs([&] {
-              for (int i = 0; i < 100; ++i) runner.Act(obs.data(), action);
+              for (int i = 0; i < 100; ++i) runner.Act(motion.data(), previous.data(), i % kSkills, action);
             }),
             0);
+}
+
+// A library written by format version 1 (one policy, no policy per skill) runs as it did.
+TEST_F(SkillLibraryTest, ReadsVersion1Libraries) {
+  const std::string v1 = UniqueTempPath("v1.safetensors");
+  testutil::WriteAsVersion1(path_, v1);
+  const SkillLibrary old = SkillLibrary::Load(v1), now = SkillLibrary::Load(path_);
+  ASSERT_EQ(old.policies().size(), 1u);
+  EXPECT_EQ(old.policies()[0].num_skills, kSkills);
+  EXPECT_EQ(old.policies()[0].training["iteration"], 7);
+  EXPECT_EQ(old.skills()[3].policy_skill, 3);
+  PolicyRunner old_runner(old), runner(now);
+  std::vector<float> motion(kMotionObsSize, 0.3f), previous(kActionSize, -0.2f);
+  float a[kActionSize], b[kActionSize];
+  old_runner.Act(motion.data(), previous.data(), 3, a);
+  runner.Act(motion.data(), previous.data(), 3, b);
+  for (int j = 0; j < kActionSize; ++j) EXPECT_EQ(a[j], b[j]);
+  std::remove(v1.c_str());
+}
+
+TEST_F(SkillLibraryTest, EachSkillNamesAPolicyAndOneOfItsSkills) {
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][1]["policy"] = 1; }),
+              HasSubstr("/skills/1/policy must be a policy index, 0 to 0"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][1]["policy_skill"] = kSkills; }),
+              HasSubstr("/skills/1/policy_skill must be 0 to 4 (policy 0's skills)"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][2]["policy_skill"] = 0; }),
+              HasSubstr("/skills/2/policy_skill is skill 0's too"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["policies"] = nlohmann::json::array(); }),
+              HasSubstr("/policies must list at least one policy"));
 }
 
 TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {
@@ -202,13 +200,17 @@ TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {
               HasSubstr("/action/default_joint_positions/4 is 0.9 but this robot uses 0.8"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["control"]["control_dt"] = 0.01; }),
               HasSubstr("/control/control_dt"));
-  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["format_version"] = 2; }), HasSubstr("/format_version is 2"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["format_version"] = 3; }),
+              HasSubstr("/format_version is 3 but this build reads versions 1 to 2"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m.erase("limits"); }), HasSubstr("/limits/torque is missing"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["limits"]["joint_max"][2] = -0.5; }),
               HasSubstr("/limits/joint_max/2 is -0.5 but this robot uses -0.916298"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["robot"] = "go1"; }), HasSubstr("/robot is 'go1'"));
-  // A library that claims more skills than its first layer takes.
-  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["num_skills"] = kSkills + 1; }), HasSubstr("skill_onehot"));
+  // A policy that claims more skills than its first layer takes; a library that lists fewer.
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["policies"][0]["num_skills"] = kSkills + 1; }),
+              HasSubstr("/policies/0/observation_size is 50 but this robot uses 51"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["num_skills"] = kSkills + 1; }),
+              HasSubstr("/skills must describe each of the 6 skills"));
 }
 
 TEST_F(SkillLibraryTest, CarriesTheTargetFilterOfTraining) {
@@ -216,13 +218,12 @@ TEST_F(SkillLibraryTest, CarriesTheTargetFilterOfTraining) {
   TrainConfig filtered = config_;
   filtered.env.action_filter_hz = 4.0;
   const std::string path = UniqueTempPath("filtered.safetensors");
-  WriteSkillLibrary(path, filtered, policy_, FakeEvaluation(kSkills), FakeRandomizedEvaluation(kSkills), ExportProvenance{"run", "abc", "def"});
+  WriteTestLibrary(path, filtered, policy_);
   EXPECT_EQ(SkillLibrary::Load(path).action_filter_hz(), 4.0);
   EXPECT_EQ(SkillLibrary::Load(path).action_filter_order(), 1);
   filtered.env.action_filter_hz = 10.0;
   filtered.env.action_filter_order = 2;
-  WriteSkillLibrary(path, filtered, policy_, FakeEvaluation(kSkills), FakeRandomizedEvaluation(kSkills),
-                    ExportProvenance{"run", "abc", "def"});
+  WriteTestLibrary(path, filtered, policy_);
   EXPECT_EQ(SkillLibrary::Load(path).action_filter_order(), 2);
   std::remove(path.c_str());
   // Libraries from before the filter have no entry, and ran without one; a bad one is named.
@@ -244,12 +245,12 @@ TEST_F(SkillLibraryTest, CarriesTheTargetFilterOfTraining) {
 TEST_F(SkillLibraryTest, RejectsBadTensors) {
   SafeTensors file = ReadSafeTensors(path_);
   SafeTensors missing = file;
-  missing.tensors.erase("policy.layer1.bias");
+  missing.tensors.erase("policies.0.layer1.bias");
   const std::string edited = UniqueTempPath("tensors.safetensors");
   WriteSafeTensors(edited, missing);
-  EXPECT_THAT(InputErrorMessage([&] { SkillLibrary::Load(edited); }), HasSubstr("no tensor 'policy.layer1.bias'"));
+  EXPECT_THAT(InputErrorMessage([&] { SkillLibrary::Load(edited); }), HasSubstr("no tensor 'policies.0.layer1.bias'"));
   SafeTensors poisoned = file;
-  poisoned.tensors["policy.layer0.weight"].values[5] = NAN;
+  poisoned.tensors["policies.0.layer0.weight"].values[5] = NAN;
   WriteSafeTensors(edited, poisoned);
   EXPECT_THAT(InputErrorMessage([&] { SkillLibrary::Load(edited); }), HasSubstr("NaN"));
   SafeTensors foreign;

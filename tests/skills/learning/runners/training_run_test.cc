@@ -336,13 +336,13 @@ double Elu(double x) { return x > 0.0 ? x : std::expm1(x); }
 // computer without libtorch would: normalise the first 45 entries, then Linear + ELU layers and
 // a last Linear layer.
 std::vector<double> MeanActionByHand(const SafeTensors& library, int layers, const std::vector<float>& obs) {
-  const FloatTensor& mean = library.tensors.at("normalizer.mean");
-  const FloatTensor& std = library.tensors.at("normalizer.std");
+  const FloatTensor& mean = library.tensors.at("policies.0.normalizer.mean");
+  const FloatTensor& std = library.tensors.at("policies.0.normalizer.std");
   std::vector<double> x(obs.begin(), obs.end());
   for (size_t i = 0; i < mean.values.size(); ++i) x[i] = (x[i] - mean.values[i]) / std.values[i];
   for (int l = 0; l < layers; ++l) {
-    const FloatTensor& w = library.tensors.at("policy.layer" + std::to_string(l) + ".weight");
-    const FloatTensor& b = library.tensors.at("policy.layer" + std::to_string(l) + ".bias");
+    const FloatTensor& w = library.tensors.at("policies.0.layer" + std::to_string(l) + ".weight");
+    const FloatTensor& b = library.tensors.at("policies.0.layer" + std::to_string(l) + ".bias");
     const int64_t rows = w.shape[0], cols = w.shape[1];
     std::vector<double> y(rows);
     for (int64_t r = 0; r < rows; ++r) {
@@ -567,22 +567,25 @@ TEST_F(TrainingRun, EvaluatesAndExportsARun) {
   EXPECT_EQ(meta["control"]["kp"], 20.0);
   EXPECT_EQ(meta["control"]["kd"], 0.5);
   EXPECT_EQ(meta["control"]["control_dt"], 0.02);
-  EXPECT_EQ(meta["observation"]["policy_size"], 49);  // 33 + 12 + 4
   EXPECT_EQ(meta["observation"]["normalized_size"], 45);
-  EXPECT_EQ(meta["training"]["iteration"], 6);
-  EXPECT_EQ(meta["training"]["env_steps"], 6 * kStepsPerIteration);
-  EXPECT_EQ(meta["training"]["method"], "flsd");
-  EXPECT_EQ(meta["policy"]["hidden"].get<std::vector<int>>(), (std::vector<int>{32, 32}));
-  EXPECT_EQ(meta["policy"]["activation"], "elu");
+  const nlohmann::json& policy = meta["policies"][0];  // the run's, the only one
+  EXPECT_EQ(meta["policies"].size(), 1u);
+  EXPECT_EQ(policy["observation_size"], 49);  // 33 + 12 + 4
+  EXPECT_EQ(policy["training"]["iteration"], 6);
+  EXPECT_EQ(policy["training"]["env_steps"], 6 * kStepsPerIteration);
+  EXPECT_EQ(policy["training"]["method"], "flsd");
+  EXPECT_EQ(policy["hidden"].get<std::vector<int>>(), (std::vector<int>{32, 32}));
+  EXPECT_EQ(policy["activation"], "elu");
   EXPECT_EQ(meta["skills"].size(), 4u);
-  const int layers = meta["policy"]["layers"].get<int>();
+  const int layers = policy["layers"].get<int>();
   ASSERT_EQ(layers, 3);
 
   // Exactly the policy's layers and the normaliser, with the shapes of the smoke nets.
   const std::map<std::string, std::vector<int64_t>> shapes = {
-      {"policy.layer0.weight", {32, 49}}, {"policy.layer0.bias", {32}}, {"policy.layer1.weight", {32, 32}},
-      {"policy.layer1.bias", {32}},       {"policy.layer2.weight", {12, 32}}, {"policy.layer2.bias", {12}},
-      {"normalizer.mean", {45}},          {"normalizer.std", {45}}};
+      {"policies.0.layer0.weight", {32, 49}},  {"policies.0.layer0.bias", {32}},
+      {"policies.0.layer1.weight", {32, 32}},  {"policies.0.layer1.bias", {32}},
+      {"policies.0.layer2.weight", {12, 32}},  {"policies.0.layer2.bias", {12}},
+      {"policies.0.normalizer.mean", {45}},    {"policies.0.normalizer.std", {45}}};
   ASSERT_EQ(library.tensors.size(), shapes.size());
   for (const auto& [name, shape] : shapes) {
     ASSERT_EQ(library.tensors.count(name), 1u) << name;
@@ -592,8 +595,8 @@ TEST_F(TrainingRun, EvaluatesAndExportsARun) {
   // Inference parity with the trainer's own forward pass, on observations spread as the
   // normaliser saw them, one per skill.
   TrainedPolicy trained = LoadTrainedPolicy(LoadTrainConfig(Path("config.yaml")), Path("checkpoint.pt"));
-  const FloatTensor& mean = library.tensors.at("normalizer.mean");
-  const FloatTensor& std = library.tensors.at("normalizer.std");
+  const FloatTensor& mean = library.tensors.at("policies.0.normalizer.mean");
+  const FloatTensor& std = library.tensors.at("policies.0.normalizer.std");
   torch::manual_seed(11);
   for (int skill = 0; skill < 4; ++skill) {
     const torch::Tensor noise = torch::randn({45});

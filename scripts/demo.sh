@@ -2,8 +2,8 @@
 # make demo: skilld with the simulated A1 and the shipped skill library, driven by skillctl the way
 # a user would drive a real robot, with no reset anywhere: list the skills, stand, navigate around
 # the obstacles of configs/maps/demo.yaml (writing a picture of the planned and the walked path to
-# $PICTURE), run the four fastest skills back to back, track a velocity with the skill selector,
-# then stop the server cleanly. Every motion starts only from a stand the server has verified.
+# $PICTURE), run the fastest skill forward, backward, turning left and turning right back to back,
+# track a velocity with the skill selector, then stop the server cleanly. Every motion starts only from a stand the server has verified.
 # Everything stays on this machine (Cyclone on loopback, a partition of its own).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -24,19 +24,22 @@ echo "== skills in $library"
 "${ctl[@]}" list | tee /tmp/flsd_demo_skills.$$
 echo "== stand"
 "${ctl[@]}" stand
-# The four skills with the largest mean speed (m/s, plus 0.3 m per radian of turning) among those
-# that never fell in the library's evaluations (the longest survival listed): skilld refuses the
-# others.
-fastest=$(awk 'NR > 1 { if ($7 > longest) longest = $7; row[NR] = $0 }
-               END { for (i in row) { split(row[i], f); if (f[7] == longest)
-                       printf "%s %f\n", f[1], sqrt(f[2]*f[2] + f[3]*f[3]) + 0.3*(f[4] < 0 ? -f[4] : f[4]) } }' \
-          /tmp/flsd_demo_skills.$$ | LC_ALL=C sort -k2 -g -r | head -4 | cut -d' ' -f1)
+# Among the skills that never fell in the library's evaluations (the longest survival listed;
+# skilld refuses the others), the one that goes fastest forward, fastest backward, and turns
+# fastest left and right: columns 2 and 4 of the list are the mean vx and yaw rate.
+picks=$(awk 'NR > 1 { if ($7 > longest) longest = $7; row[NR] = $0 }
+             END { for (i in row) { split(row[i], f); if (f[7] != longest) continue
+                     if (fw == "" || f[2] > fwv) { fw = f[1]; fwv = f[2] }
+                     if (bw == "" || f[2] < bwv) { bw = f[1]; bwv = f[2] }
+                     if (lt == "" || f[4] > ltv) { lt = f[1]; ltv = f[4] }
+                     if (rt == "" || f[4] < rtv) { rt = f[1]; rtv = f[4] } }
+                   print fw, bw, lt, rt }' /tmp/flsd_demo_skills.$$)
 rm -f /tmp/flsd_demo_skills.$$
 status=0
 picture=${PICTURE:-build/demo_navigation.svg}
 echo "== navigate to (5, 0) around the obstacles of configs/maps/demo.yaml"
 "${ctl[@]}" --quiet goto 5 0 --map configs/maps/demo.yaml --duration 150 --picture "$picture" || status=$?
-for k in $fastest; do
+for k in $picks; do
   # Back to back, as on a real robot: the server stands the robot up between skills and starts
   # the next one only from a verified stand (lying down and standing up again if it must).
   echo "== skill $k for 4 s"

@@ -488,7 +488,7 @@ TEST_F(ControllerTest, EverySkillSkilldRunsEndsWhereTheRobotCanStandAgain) {
     ASSERT_EQ(s.faults, 0u) << "skill " << d.id << ": " << s.fault_message.data();
   }
   EXPECT_GE(run, 10);
-  RunFor(3.0);  // the stand after the last one
+  RunFor(8.0);  // the stand after the last one, with room to lie down and stand up again
   const ControllerStatus s = controller_.status();
   EXPECT_EQ(s.mode, Mode::kStand);
   EXPECT_EQ(s.faults, 0u) << s.fault_message.data();

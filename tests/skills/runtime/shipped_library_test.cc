@@ -58,19 +58,19 @@ TEST(ShippedLibrary, ThreeSkillsKeepTheRobotUpFor10s) {
 }
 
 // Skill k and its pair, as the library's evaluation measured them: the same forward speed, and
-// sideways speed and turn rate of opposite signs, to 0.08 (a self-paired skill goes straight, to
-// 0.04 m/s and rad/s).
+// sideways speed and turn rate of opposite signs, to 0.1 (the two turns nearly in place, 0.93 and
+// 1.02 rad/s, differ the most).
 TEST(ShippedLibrary, PairsMoveAsMirrorImages) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
   int pairs = 0;
   for (const SkillDescriptor& d : library.skills()) {
     const SkillDescriptor& m = library.skills()[d.mirror_skill];
     pairs += d.mirror_skill != d.id;
-    EXPECT_NEAR(d.mean_linear_velocity.x(), m.mean_linear_velocity.x(), 0.08) << "skill " << d.id;
-    EXPECT_NEAR(d.mean_linear_velocity.y(), -m.mean_linear_velocity.y(), 0.08) << "skill " << d.id;
-    EXPECT_NEAR(d.mean_angular_velocity.z(), -m.mean_angular_velocity.z(), 0.08) << "skill " << d.id;
+    EXPECT_NEAR(d.mean_linear_velocity.x(), m.mean_linear_velocity.x(), 0.1) << "skill " << d.id;
+    EXPECT_NEAR(d.mean_linear_velocity.y(), -m.mean_linear_velocity.y(), 0.1) << "skill " << d.id;
+    EXPECT_NEAR(d.mean_angular_velocity.z(), -m.mean_angular_velocity.z(), 0.1) << "skill " << d.id;
   }
-  EXPECT_EQ(pairs, 12);  // 6 mirror pairs and 4 self-paired skills
+  EXPECT_EQ(pairs, 14);  // 7 mirror pairs and 6 self-paired skills
 }
 
 }  // namespace

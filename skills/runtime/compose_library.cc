@@ -1,6 +1,8 @@
 #include "skills/runtime/compose_library.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <utility>
@@ -13,24 +15,42 @@
 namespace flsd {
 namespace {
 
-// A policy's metadata object and its tensors' name prefixes, in either version of the format.
-struct StoredPolicy {
-  nlohmann::json metadata;
-  std::string layer_prefix, normalizer_prefix;
-};
-
-StoredPolicy StoredPolicyOf(const SkillLibrary& library, int policy) {
+// Policy P's metadata object, in either version of the format.
+nlohmann::json PolicyMetadata(const SkillLibrary& library, int policy) {
   const nlohmann::json& m = library.metadata();
   if (m.at("format_version").get<int>() == 1) {
     // One policy, its description spread over the top level.
-    StoredPolicy stored{m.at("policy"), "policy.", "normalizer."};
+    nlohmann::json stored = m.at("policy");
     for (const char* key : {"training", "evaluation", "randomized_evaluation"}) {
-      if (m.contains(key)) stored.metadata[key] = m.at(key);
+      if (m.contains(key)) stored[key] = m.at(key);
     }
     return stored;
   }
-  const std::string prefix = "policies." + std::to_string(policy) + ".";
-  return {m.at("policies").at(policy), prefix, prefix + "normalizer."};
+  return m.at("policies").at(policy);
+}
+
+FloatTensor ToTensor(const float* data, std::vector<int64_t> shape) {
+  int64_t size = 1;
+  for (int64_t d : shape) size *= d;
+  return {std::move(shape), std::vector<float>(data, data + size)};
+}
+
+// The network as SkillLibrary reads it back, under `prefix` (library_format.h).
+void AddNetwork(SafeTensors& file, const DenseNetwork& network, const std::string& prefix) {
+  for (size_t l = 0; l < network.layers.size(); ++l) {
+    const DenseLayer& layer = network.layers[l];
+    const std::string name = prefix + "layer" + std::to_string(l);
+    file.tensors[name + ".weight"] = ToTensor(layer.weight.data(), {layer.weight.rows(), layer.weight.cols()});
+    file.tensors[name + ".bias"] = ToTensor(layer.bias.data(), {layer.bias.size()});
+  }
+  file.tensors[prefix + "normalizer.mean"] = ToTensor(network.normalizer_mean.data(), {network.normalizer_mean.size()});
+  file.tensors[prefix + "normalizer.std"] = ToTensor(network.normalizer_std.data(), {network.normalizer_std.size()});
+}
+
+std::string FilterText(const SkillLibrary& library) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "%g Hz, order %d", library.action_filter_hz(), library.action_filter_order());
+  return text;
 }
 
 std::vector<int> ChosenSkills(const LibraryPart& part, const SkillLibrary& library) {
@@ -84,37 +104,53 @@ LibraryPart ParseLibraryPart(const std::string& text) {
 }
 
 nlohmann::json ComposeLibraries(const std::vector<LibraryPart>& parts, const std::string& output) {
+  namespace fs = std::filesystem;
   if (parts.empty()) throw InputError("compose: give at least one library");
   std::vector<SkillLibrary> libraries;
-  for (const LibraryPart& part : parts) libraries.push_back(SkillLibrary::Load(part.path));
+  for (const LibraryPart& part : parts) {
+    std::error_code error;
+    if (fs::equivalent(part.path, output, error)) {
+      throw InputError(output + ": is also an input; write the joined library to another file");
+    }
+    libraries.push_back(SkillLibrary::Load(part.path));
+  }
   const SkillLibrary& first = libraries.front();
   for (size_t i = 1; i < libraries.size(); ++i) {
-    const SkillLibrary& l = libraries[i];
-    if (l.action_filter_hz() != first.action_filter_hz() || l.action_filter_order() != first.action_filter_order()) {
-      throw InputError(parts[i].path + ": its skills run behind a " + std::to_string(l.action_filter_hz()) +
-                       " Hz target filter of order " + std::to_string(l.action_filter_order()) + ", but " +
-                       parts[0].path + "'s behind " + std::to_string(first.action_filter_hz()) + " Hz, order " +
-                       std::to_string(first.action_filter_order()) + "; one library runs one filter");
+    if (libraries[i].action_filter_hz() != first.action_filter_hz() ||
+        libraries[i].action_filter_order() != first.action_filter_order()) {
+      throw InputError(parts[i].path + ": its skills run behind a target filter of " + FilterText(libraries[i]) +
+                       ", but " + parts[0].path + "'s behind one of " + FilterText(first) +
+                       "; one library runs one filter");
     }
   }
 
-  // New skill ids in the order chosen; new policy ids in the order first used.
+  // New skill ids in the order chosen; new policies in the order first used, one per trained
+  // policy however many parts name its file.
   struct Source {
     int part, skill;
   };
   std::vector<Source> sources;
   std::vector<std::map<int, int>> new_id(parts.size());
+  std::map<std::pair<std::string, int>, std::string> chosen_in;  // (fingerprint, skill) -> part
   for (size_t i = 0; i < parts.size(); ++i) {
     for (int k : ChosenSkills(parts[i], libraries[i])) {
+      const auto [it, fresh] = chosen_in.emplace(std::make_pair(libraries[i].fingerprint(), k), parts[i].path);
+      if (!fresh) {
+        throw InputError(parts[i].path + ": skill " + std::to_string(k) + " is already chosen from " + it->second +
+                         " (the same file)");
+      }
       new_id[i][k] = static_cast<int>(sources.size());
       sources.push_back({static_cast<int>(i), k});
     }
   }
-  std::map<std::pair<int, int>, int> new_policy;  // (part, policy) -> index
-  std::vector<std::pair<int, int>> policy_sources;
+  std::map<std::pair<std::string, int>, int> new_policy;  // (fingerprint, policy) -> index
+  std::vector<std::pair<int, int>> policy_sources;       // index -> (part, policy)
+  auto policy_key = [&](int part, int policy) { return std::make_pair(libraries[part].fingerprint(), policy); };
   for (const Source& s : sources) {
-    const std::pair<int, int> key{s.part, libraries[s.part].skills()[s.skill].policy};
-    if (new_policy.emplace(key, static_cast<int>(policy_sources.size())).second) policy_sources.push_back(key);
+    const int policy = libraries[s.part].skills()[s.skill].policy;
+    if (new_policy.emplace(policy_key(s.part, policy), static_cast<int>(policy_sources.size())).second) {
+      policy_sources.emplace_back(s.part, policy);
+    }
   }
 
   nlohmann::json metadata;
@@ -127,25 +163,17 @@ nlohmann::json ComposeLibraries(const std::vector<LibraryPart>& parts, const std
 
   SafeTensors file;
   file.metadata["format"] = kSkillLibraryFormat;
-  const nlohmann::json::array_t no_policies;
-  metadata["policies"] = no_policies;
+  metadata["policies"] = nlohmann::json::array();
   for (size_t p = 0; p < policy_sources.size(); ++p) {
     const auto [part, policy] = policy_sources[p];
     const SkillLibrary& library = libraries[part];
-    const StoredPolicy stored = StoredPolicyOf(library, policy);
-    metadata["policies"].push_back(stored.metadata);
+    nlohmann::json stored = PolicyMetadata(library, policy);
+    nlohmann::json source = {{"library", parts[part].path}, {"fingerprint", library.fingerprint()}, {"policy", policy}};
+    if (stored.contains("source")) source["from"] = stored["source"];  // joined before
+    stored["source"] = source;
+    metadata["policies"].push_back(stored);
     VisitPolicyFacts(write, static_cast<int>(p), library.policies()[policy].num_skills);
-    metadata["policies"][p]["source"] = {
-        {"library", parts[part].path}, {"fingerprint", library.fingerprint()}, {"policy", policy}};
-    // Its tensors, renamed; the library loaded above has checked each of them.
-    const std::string prefix = "policies." + std::to_string(p) + ".";
-    for (const auto& [name, tensor] : ReadSafeTensors(parts[part].path).tensors) {
-      if (name.rfind(stored.normalizer_prefix, 0) == 0) {
-        file.tensors[prefix + "normalizer." + name.substr(stored.normalizer_prefix.size())] = tensor;
-      } else if (name.rfind(stored.layer_prefix + "layer", 0) == 0) {
-        file.tensors[prefix + name.substr(stored.layer_prefix.size())] = tensor;
-      }
-    }
+    AddNetwork(file, library.policies()[policy].network, PolicyTensorPrefix(static_cast<int>(p)));
   }
 
   nlohmann::json skills = nlohmann::json::array();
@@ -155,23 +183,32 @@ nlohmann::json ComposeLibraries(const std::vector<LibraryPart>& parts, const std
     SkillDescriptor d = libraries[s.part].skills()[s.skill];
     d.id = static_cast<int>(id);
     d.mirror_skill = new_id[s.part].at(d.mirror_skill);
-    d.policy = new_policy.at({s.part, d.policy});
+    d.policy = new_policy.at(policy_key(s.part, d.policy));
     skills.push_back(DescriptorJson(d));
     origins.push_back({{"library", parts[s.part].path}, {"skill", s.skill}});
   }
   metadata["skills"] = skills;
   metadata["composed_from"] = origins;
   file.metadata["flsd"] = metadata.dump();
-  WriteSafeTensors(output, file);
+
+  // Loaded as skilld will read it before it takes the output's name.
+  const std::string unchecked = output + ".unchecked";
+  WriteSafeTensors(unchecked, file);
+  try {
+    SkillLibrary::Load(unchecked);
+  } catch (...) {
+    fs::remove(unchecked);
+    throw;
+  }
+  fs::rename(unchecked, output);
 
   nlohmann::json dropped = nlohmann::json::array();
   for (size_t i = 0; i < parts.size(); ++i) {
     if (libraries[i].selector()) dropped.push_back(parts[i].path);
   }
-  const SkillLibrary written = SkillLibrary::Load(output);  // what skilld will read
   return {{"library", output},
-          {"num_skills", written.num_skills()},
-          {"policies", written.policies().size()},
+          {"num_skills", sources.size()},
+          {"policies", policy_sources.size()},
           {"skills_from", origins},
           {"selectors_not_carried_over", dropped}};
 }

@@ -20,6 +20,11 @@ inline constexpr const char* kSkillLibraryFormat = "flsd-skill-library";  // the
 // one policy, is still read.
 inline constexpr int kSkillLibraryVersion = 2;
 
+inline constexpr int kMaxSkills = 1000000;  // per library and per policy
+
+// Policy P's tensors: layer<l>.{weight,bias} and normalizer.{mean,std} under this prefix.
+inline std::string PolicyTensorPrefix(int policy) { return "policies." + std::to_string(policy) + "."; }
+
 // A library's own top-level values. Visit calls v(pointer, field, required, min, max); a value
 // that is not required may be absent from older libraries and keeps its default: one from before
 // the target filter ran without one, one from before the second-order filter ran the first-order.
@@ -29,7 +34,7 @@ struct LibraryValues {
   int action_filter_order = 1;
   template <class V>
   void Visit(V&& v) {
-    v("/num_skills", num_skills, true, 1.0, 1e6);
+    v("/num_skills", num_skills, true, 1.0, kMaxSkills);
     v("/action/filter_hz", action_filter_hz, false, 0.0, TargetFilter::kMaxCutoffHz);
     v("/action/filter_order", action_filter_order, false, 1.0, 2.0);
   }
@@ -42,7 +47,7 @@ inline bool Survives(int survival_steps) { return survival_steps > kSurvivalStep
 
 // Calls v(pointer, value) for every fact, with value an int, a double, a std::string, a
 // std::vector<double> or a std::vector<std::string>. A policy's o^p ends with a one-hot over its
-// own skills: /policies/P/num_skills of them (PolicyFacts).
+// own skills: /policies/P/num_skills of them (VisitPolicyFacts).
 template <class V>
 void VisitLibraryFacts(V&& v) {
   v("/format", std::string(kSkillLibraryFormat));

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <sstream>
 #include <type_traits>
 
@@ -31,10 +33,18 @@ class MetadataChecker {
   }
   template <class T>
   T Get(const std::string& pointer) const {
+    const nlohmann::json& value = At(pointer);
+    if constexpr (std::is_same_v<T, int>) {
+      // nlohmann would turn 1.7 or true into 1; an id or a count must be written as an integer.
+      if (!value.is_number_integer() || value.get<int64_t>() < std::numeric_limits<int>::min() ||
+          value.get<int64_t>() > std::numeric_limits<int>::max()) {
+        Fail(pointer, "must be an integer (it is " + value.dump() + ")");
+      }
+    }
     try {
-      return At(pointer).get<T>();
+      return value.get<T>();
     } catch (const nlohmann::json::exception&) {
-      Fail(pointer, "has the wrong type (" + At(pointer).dump() + ")");
+      Fail(pointer, "has the wrong type (" + value.dump() + ")");
     }
   }
   void ExpectNumber(const std::string& pointer, double expected) const {
@@ -254,6 +264,7 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
     policy.num_skills = lib.num_skills_;
     policy.network = ReadNetwork(file, m, "/policy", "policy.", "normalizer.", PolicyObservationSize(lib.num_skills_),
                                  kActionSize, normalized);
+    m.Get<std::string>("/training/config");
     policy.training = m.At("/training");
     lib.policies_.push_back(std::move(policy));
   } else {
@@ -263,12 +274,15 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
       const std::string at = "/policies/" + std::to_string(p);
       SkillPolicy policy;
       policy.num_skills = m.Get<int>(at + "/num_skills");
-      if (policy.num_skills < 1) m.Fail(at + "/num_skills", "must be at least 1");
+      if (policy.num_skills < 1 || policy.num_skills > kMaxSkills) {
+        m.Fail(at + "/num_skills", "must be within [1, " + std::to_string(kMaxSkills) + "]");
+      }
       VisitPolicyFacts([&](const std::string& pointer, const auto& expected) { m.Expect(pointer, expected); },
                        static_cast<int>(p), policy.num_skills);
-      const std::string tensors = "policies." + std::to_string(p) + ".";
+      const std::string tensors = PolicyTensorPrefix(static_cast<int>(p));
       policy.network = ReadNetwork(file, m, at, tensors, tensors + "normalizer.",
                                    PolicyObservationSize(policy.num_skills), kActionSize, normalized);
+      m.Get<std::string>(at + "/training/config");  // what evaluations of the library rebuild its env from
       policy.training = m.At(at + "/training");
       lib.policies_.push_back(std::move(policy));
     }
@@ -299,6 +313,7 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
   if (!skills.is_array() || static_cast<int>(skills.size()) != lib.num_skills_) {
     m.Fail("/skills", "must describe each of the " + std::to_string(lib.num_skills_) + " skills");
   }
+  std::map<std::pair<int, int>, int> runs;  // (policy, policy_skill) -> the skill it runs
   for (int k = 0; k < lib.num_skills_; ++k) {
     const std::string at = "/skills/" + std::to_string(k);
     SkillDescriptor d;
@@ -306,6 +321,10 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
     d.policy_skill = k;
     DescriptorReader reader{m, at};
     d.Visit(reader);
+    if (version >= 2) {  // only version 1's skills all belong to one policy
+      m.At(at + "/policy");
+      m.At(at + "/policy_skill");
+    }
     if (d.id != k) m.Fail(at + "/id", "is " + std::to_string(d.id) + "; expected " + std::to_string(k));
     if (d.mirror_skill < 0 || d.mirror_skill >= lib.num_skills_) {
       m.Fail(at + "/mirror_skill", "must be a skill id, 0 to " + std::to_string(lib.num_skills_ - 1));
@@ -319,10 +338,8 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
       m.Fail(at + "/policy_skill", "must be 0 to " + std::to_string(policy_skills - 1) + " (policy " +
                                        std::to_string(d.policy) + "'s skills)");
     }
-    for (const SkillDescriptor& before : lib.skills_) {
-      if (before.policy == d.policy && before.policy_skill == d.policy_skill) {
-        m.Fail(at + "/policy_skill", "is skill " + std::to_string(before.id) + "'s too");
-      }
+    if (const auto [it, fresh] = runs.emplace(std::make_pair(d.policy, d.policy_skill), k); !fresh) {
+      m.Fail(at + "/policy_skill", "is skill " + std::to_string(it->second) + "'s too");
     }
     lib.skills_.push_back(d);
   }

@@ -1,6 +1,6 @@
 #pragma once
-// A skill library loaded for serving: the policy's weights and the metadata that says how to run
-// it, each field checked against this robot and this build (robot/a1.h, robot/observation.h).
+// A skill library loaded for serving: its policies' weights and the metadata that says how to run
+// them, each field checked against this robot and this build (robot/a1.h, robot/observation.h).
 // Eigen only: the robot computer needs no libtorch.
 
 #include <Eigen/Core>

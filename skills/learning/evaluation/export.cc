@@ -109,7 +109,7 @@ void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const
   // One string holds the whole description: safetensors metadata values must be strings.
   file.metadata["format"] = kSkillLibraryFormat;
   file.metadata["flsd"] = SkillLibraryMetadata(config, policy, evaluation, randomized, provenance).dump();
-  AddNetwork(file, policy.policy->actor(), policy.normalizer, "policies.0.", "policies.0.normalizer.");
+  AddNetwork(file, policy.policy->actor(), policy.normalizer, PolicyTensorPrefix(0), PolicyTensorPrefix(0) + "normalizer.");
   WriteSafeTensors(path, file);
 }
 

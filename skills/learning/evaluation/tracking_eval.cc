@@ -104,7 +104,7 @@ nlohmann::json TrackingJson(const TrackingEvaluation& e) {
 }
 
 EnvConfig TrainingEnvOf(const SkillLibrary& library) {
-  // The first policy's: a composed library's policies were trained in one env (compose_library.h).
+  // The first policy's (a composed library's parts share the target filter; compose_library.h).
   const nlohmann::json& training = library.policies().front().training;
   const YAML::Node config = YAML::Load(training.at("config").get<std::string>());
   EnvConfig env;

@@ -8,9 +8,11 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 
+#include "core/paths.h"
 #include "robot/observation.h"
 #include "skills/learning/evaluation/export.h"
 #include "skills/runtime/safetensors.h"
@@ -160,6 +162,20 @@ TEST_F(SkillLibraryTest, ActAllocatesNothing) {
             0);
 }
 
+// A version 1 library as the project shipped it loads and acts.
+TEST(SkillLibraryVersion1, TheShippedDiaynLibraryLoadsAndActs) {
+  const SkillLibrary lib = SkillLibrary::Load(ResolveDataPath("models/a1_diayn.safetensors"));
+  ASSERT_EQ(lib.metadata()["format_version"], 1);
+  ASSERT_EQ(lib.policies().size(), 1u);
+  EXPECT_EQ(lib.policies()[0].num_skills, lib.num_skills());
+  EXPECT_EQ(lib.policies()[0].training["method"], "diayn");
+  PolicyRunner runner(lib);
+  std::vector<float> motion(kMotionObsSize, 0.1f), previous(kActionSize, 0.0f), action(kActionSize);
+  runner.Act(motion.data(), previous.data(), lib.num_skills() - 1, action.data());
+  for (float a : action) EXPECT_TRUE(std::isfinite(a));
+  EXPECT_NE(action, std::vector<float>(kActionSize, 0.0f));
+}
+
 // A library written by format version 1 (one policy, no policy per skill) runs as it did.
 TEST_F(SkillLibraryTest, ReadsVersion1Libraries) {
   const std::string v1 = UniqueTempPath("v1.safetensors");
@@ -187,6 +203,16 @@ TEST_F(SkillLibraryTest, EachSkillNamesAPolicyAndOneOfItsSkills) {
               HasSubstr("/skills/2/policy_skill is skill 0's too"));
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["policies"] = nlohmann::json::array(); }),
               HasSubstr("/policies must list at least one policy"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][1]["policy"] = 0.5; }),
+              HasSubstr("/skills/1/policy must be an integer (it is 0.5)"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][1]["policy_skill"] = true; }),
+              HasSubstr("/skills/1/policy_skill must be an integer"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][1].erase("policy"); }),
+              HasSubstr("/skills/1/policy is missing"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["policies"][0].erase("training"); }),
+              HasSubstr("/policies/0/training/config is missing"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["policies"][0]["num_skills"] = 2000000; }),
+              HasSubstr("/policies/0/num_skills must be within [1, 1000000]"));
 }
 
 TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {

@@ -16,7 +16,8 @@ struct LibraryPart {
   std::vector<int> skills;  // the skill ids to take, in this order; empty: all of them
 };
 
-// "PATH" (every skill) or "PATH:K,K,..." (those skills). Throws InputError on a malformed list.
+// "PATH" (every skill) or "PATH:K,K,..." (those skills); the list follows the last ':', so a path
+// that holds a colon needs a list. Throws InputError naming the text on a malformed list.
 LibraryPart ParseLibraryPart(const std::string& text);
 
 // Writes the joined library to `output` (atomically) and returns what it holds: for each new skill

@@ -105,10 +105,14 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
   SkilldProcess skilld(options.library, options.server_config, options.domain_id, "navbench");
   const std::unique_ptr<Client> served = skilld.Connect();
   Client& client = *served;
-  // The ideal speed: the fastest skill the server serves (the selector's choices).
-  double top_speed = 0.0;
+  // The ideal speed: the fastest skill the server serves (the selector's choices); and the fastest
+  // going forward, the way the follower walks, for a library whose top speed is backward.
+  double top_speed = 0.0, forward_top_speed = 0.0;
   for (const SkillInfo& s : client.ListSkills()) {
-    if (Survives(s.survival_steps)) top_speed = std::max(top_speed, std::hypot(s.linear_velocity[0], s.linear_velocity[1]));
+    if (!Survives(s.survival_steps)) continue;
+    const double speed = std::hypot(s.linear_velocity[0], s.linear_velocity[1]);
+    top_speed = std::max(top_speed, speed);
+    if (s.linear_velocity[0] > 0.0) forward_top_speed = std::max(forward_top_speed, speed);
   }
   if (!(top_speed > 0.0)) throw InputError(options.library + ": no skill that survives 500 steps moves");
 
@@ -124,7 +128,7 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
     const Map2D map = Map2D::Load(file.string());
     const std::vector<Goal> goals = DrawGoals(map, options.goals, options.min_distance, rng);
     nlohmann::json runs = nlohmann::json::array();
-    std::vector<double> ratios, replans;
+    std::vector<double> ratios, forward_ratios, replans;
     double closest = HUGE_VAL;
     int succeeded = 0;
     for (const Goal& goal : goals) {
@@ -132,6 +136,7 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
       if (run["outcome"] == "succeeded") {
         ++succeeded;
         ratios.push_back(run["time_over_ideal"]);
+        if (forward_top_speed > 0.0) forward_ratios.push_back(ratios.back() * forward_top_speed / top_speed);
       }
       if (run.contains("replans")) replans.push_back(run["replans"]);
       if (run.contains("closest_approach")) closest = std::min(closest, run["closest_approach"].get<double>());
@@ -144,6 +149,8 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
                             {"success_rate", goals.empty() ? 0.0 : static_cast<double>(succeeded) / goals.size()},
                             {"time_over_ideal_p50", Quantile(ratios, 0.5)},
                             {"time_over_ideal_max", Quantile(ratios, 1.0)},
+                            {"time_over_forward_ideal_p50", Quantile(forward_ratios, 0.5)},
+                            {"time_over_forward_ideal_max", Quantile(forward_ratios, 1.0)},
                             {"replans_mean", Mean(replans)},
                             {"closest_approach_min", std::isfinite(closest) ? nlohmann::json(closest) : nlohmann::json()},
                             {"runs", runs}};
@@ -153,6 +160,7 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
   return {{"benchmark", "flsd bench nav"},
           {"library", options.library},
           {"top_speed", top_speed},
+          {"forward_top_speed", forward_top_speed},
           {"ideal", "shortest path (straight segments) / top_speed (the fastest skill surviving 500 steps)"},
           {"success_rate", all == 0 ? 0.0 : static_cast<double>(all_succeeded) / all},
           {"maps", maps},

@@ -3,7 +3,8 @@
 # a user would drive a real robot, with no reset anywhere: list the skills, stand, navigate around
 # the obstacles of configs/maps/demo.yaml (writing a picture of the planned and the walked path to
 # $PICTURE), run the fastest skill forward, backward, turning left and turning right back to back,
-# track a velocity with the skill selector, then stop the server cleanly. Every motion starts only from a stand the server has verified.
+# track a velocity with the skill selector, then stop the server cleanly. Every motion starts only
+# from a stand the server has verified.
 # Everything stays on this machine (Cyclone on loopback, a partition of its own).
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -62,7 +62,7 @@ TEST_F(ControllerTest, StandRisesFromTheFloorToTheDefaultPose) {
 
 TEST_F(ControllerTest, SkillRunsForItsDurationThenStands) {
   StandUp();
-  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, testutil::StraightestMovingSkill(controller_.library()), 1.0)));
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, testutil::CalmestStraightSkill(controller_.library()), 1.0)));
   // Standing already, it still settles in the default pose for half a second first.
   const int skill_ticks = RunFor(3.0, Mode::kSkill);
   const ControllerStatus s = controller_.status();

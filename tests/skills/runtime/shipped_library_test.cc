@@ -1,7 +1,7 @@
 // The library make demo and skilld ship (models/a1_flsd.safetensors) keeps the simulated A1 up for
 // 10 s with its three fastest skills, run as skilld runs them (PolicyRunner, Eigen, the library's
 // target filter) on the nominal robot from its default pose, within the limits of skilld's
-// supervisor; its skills are mirror images in pairs.
+// supervisor; its skills are mirror images in pairs, and none fell in its evaluations.
 
 #include <gtest/gtest.h>
 
@@ -70,7 +70,17 @@ TEST(ShippedLibrary, PairsMoveAsMirrorImages) {
     EXPECT_NEAR(d.mean_linear_velocity.y(), -m.mean_linear_velocity.y(), 0.1) << "skill " << d.id;
     EXPECT_NEAR(d.mean_angular_velocity.z(), -m.mean_angular_velocity.z(), 0.1) << "skill " << d.id;
   }
-  EXPECT_EQ(pairs, 14);  // 7 mirror pairs and 7 self-paired skills
+  EXPECT_EQ(pairs, 12);  // 6 mirror pairs and 5 self-paired skills
+}
+
+// The library ships no skill that skilld would refuse: each one survived its evaluation, and the
+// randomised one from the worst of 8 starts.
+TEST(ShippedLibrary, NoSkillFellInEitherEvaluation) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
+  for (const SkillDescriptor& d : library.skills()) {
+    EXPECT_FALSE(EarliestFall(d)) << "skill " << d.id;
+    EXPECT_TRUE(d.randomized_survival_steps.has_value()) << "skill " << d.id;
+  }
 }
 
 }  // namespace

@@ -18,7 +18,10 @@ struct VelBenchOptions {
 // (simulated A1, the library and the selector it serves) as `track_velocity` calls, each from a
 // fresh reset. The achieved velocity is the mean body velocity on the state topic after the settle
 // time. Per command the errors; over them the RMS errors, the safety stops, and how many commands
-// hold within 0.2 m/s and 0.3 rad/s.
+// hold within 0.2 m/s and 0.3 rad/s. Then the skills the shipping bar counts for its six
+// directions (forward, backward, left, right at 0.4 m/s or more, turning left and right in place
+// at 1 rad/s or more; null where the library has none), each run for the same time as
+// `execute_skill` from a fresh reset: whether each moves as its descriptor says, within 25 %.
 nlohmann::json RunVelBenchmark(const VelBenchOptions& options);
 
 }  // namespace flsd

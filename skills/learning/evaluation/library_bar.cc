@@ -6,9 +6,9 @@
 namespace flsd {
 namespace {
 
-// How fast `s` goes `direction` within the limits' other conditions; negative where it does not.
-double SpeedToward(const SkillSummary& s, Direction direction, const LibraryBarLimits& limits) {
-  const double vx = s.mean_linear_velocity[0], vy = s.mean_linear_velocity[1], wz = s.mean_angular_velocity[2];
+// How fast a skill with mean body velocity (vx, vy) and yaw rate wz goes `direction` within the
+// limits' other conditions; negative where it does not.
+double SpeedToward(double vx, double vy, double wz, Direction direction, const LibraryBarLimits& limits) {
   const bool straight = std::abs(wz) <= limits.straight_yaw_rate;
   const bool in_place = std::hypot(vx, vy) <= limits.turn_travel;
   switch (direction) {
@@ -27,6 +27,18 @@ double Threshold(Direction direction, const LibraryBarLimits& limits) {
                                                                                   : limits.straight_speed;
 }
 
+// Offers skill `id` for every direction; each keeps the fastest that meets its threshold.
+void OfferForEveryDirection(int id, double vx, double vy, double wz, const LibraryBarLimits& limits,
+                            std::array<int, kNumDirections>& skill, std::array<double, kNumDirections>& speed) {
+  for (int d = 0; d < kNumDirections; ++d) {
+    const double s = SpeedToward(vx, vy, wz, static_cast<Direction>(d), limits);
+    if (s >= Threshold(static_cast<Direction>(d), limits) && s > speed[d]) {
+      skill[d] = id;
+      speed[d] = s;
+    }
+  }
+}
+
 }  // namespace
 
 LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& limits) {
@@ -38,13 +50,8 @@ LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& li
   for (const SkillSummary& s : evaluation.skills) {
     if (s.fell || !Survives(s.survival_steps)) continue;
     ++bar.survivors;
-    for (int d = 0; d < kNumDirections; ++d) {
-      const double speed = SpeedToward(s, static_cast<Direction>(d), limits);
-      if (speed >= Threshold(static_cast<Direction>(d), limits) && speed > bar.speed[d]) {
-        bar.skill[d] = s.skill;
-        bar.speed[d] = speed;
-      }
-    }
+    OfferForEveryDirection(s.skill, s.mean_linear_velocity[0], s.mean_linear_velocity[1], s.mean_angular_velocity[2],
+                           limits, bar.skill, bar.speed);
     const bool mover = std::hypot(s.mean_linear_velocity[0], s.mean_linear_velocity[1]) >= limits.mover_speed ||
                        std::abs(s.mean_angular_velocity[2]) >= limits.mover_turn_rate;
     if (!mover) continue;
@@ -58,6 +65,18 @@ LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& li
             bar.lowest_mover_height >= limits.mover_height && bar.fastest_mover_slip <= limits.mover_slip &&
             bar.pooled_high_frequency_ratio <= limits.high_frequency_ratio;
   return bar;
+}
+
+std::array<int, kNumDirections> DirectionSkills(const SkillLibrary& library, const LibraryBarLimits& limits) {
+  std::array<int, kNumDirections> skill;
+  std::array<double, kNumDirections> speed{};
+  skill.fill(-1);
+  for (const SkillDescriptor& d : library.skills()) {
+    if (EarliestFall(d)) continue;
+    OfferForEveryDirection(d.id, d.mean_linear_velocity.x(), d.mean_linear_velocity.y(), d.mean_angular_velocity.z(),
+                           limits, skill, speed);
+  }
+  return skill;
 }
 
 nlohmann::json LibraryBarJson(const LibraryBar& bar) {

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "skills/learning/evaluation/metrics.h"
+#include "skills/runtime/skill_library.h"
 
 namespace flsd {
 
@@ -44,6 +45,10 @@ struct LibraryBar {
 };
 
 LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& limits = {});
+// The same choice from a library's descriptors, among the skills that fell in neither of its
+// evaluations (those skilld runs): per direction the skill that goes that way fastest within the
+// limits, -1 where none does.
+std::array<int, kNumDirections> DirectionSkills(const SkillLibrary& library, const LibraryBarLimits& limits = {});
 nlohmann::json LibraryBarJson(const LibraryBar& bar);
 
 }  // namespace flsd

@@ -1,9 +1,12 @@
 // The shipping bar judged from known skill summaries: the fastest qualifying skill per
-// direction, movers' height and slip, survival, and which failure keeps the bar unmet.
+// direction, movers' height and slip, survival, and which failure keeps the bar unmet; and the
+// same choice of direction skills from the shipped library's descriptors.
 
 #include "skills/learning/evaluation/library_bar.h"
 
 #include <gtest/gtest.h>
+
+#include "core/paths.h"
 
 namespace flsd {
 namespace {
@@ -62,6 +65,17 @@ TEST(LibraryBar, EachFailureKeepsItUnmet) {
   e = Library();
   e.high_frequency.pooled_ratio = 0.06;
   EXPECT_FALSE(JudgeLibrary(e).met);
+}
+
+// From the shipped library's descriptors: forward is 7 (0.875 m/s, a hair faster than its mirror
+// image 2), backward the 2.05 m/s gallop, turning right in place 16 (1.02 rad/s); its left twin
+// turns at 0.93 rad/s, under the bar, and nothing goes sideways.
+TEST(LibraryBar, DirectionSkillsOfTheShippedLibrary) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
+  EXPECT_EQ(DirectionSkills(library), (std::array<int, kNumDirections>{7, 12, -1, -1, -1, 16}));
+  LibraryBarLimits lower;
+  lower.turn_rate = 0.9;
+  EXPECT_EQ(DirectionSkills(library, lower)[static_cast<int>(Direction::kTurnLeft)], 15);
 }
 
 }  // namespace

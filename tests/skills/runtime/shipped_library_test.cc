@@ -70,7 +70,7 @@ TEST(ShippedLibrary, PairsMoveAsMirrorImages) {
     EXPECT_NEAR(d.mean_linear_velocity.y(), -m.mean_linear_velocity.y(), 0.1) << "skill " << d.id;
     EXPECT_NEAR(d.mean_angular_velocity.z(), -m.mean_angular_velocity.z(), 0.1) << "skill " << d.id;
   }
-  EXPECT_EQ(pairs, 12);  // 6 mirror pairs and 5 self-paired skills
+  EXPECT_EQ(pairs, 14);  // 7 mirror pairs and 5 self-paired skills
 }
 
 // The library ships no skill that skilld would refuse: each one survived its evaluation, and the

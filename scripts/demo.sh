@@ -2,9 +2,9 @@
 # make demo: skilld with the simulated A1 and the shipped skill library, driven by skillctl the way
 # a user would drive a real robot, with no reset anywhere: list the skills, stand, navigate around
 # the obstacles of configs/maps/demo.yaml (writing a picture of the planned and the walked path to
-# $PICTURE), run the fastest skill forward, backward, turning left and turning right back to back,
-# track a velocity with the skill selector, then stop the server cleanly. Every motion starts only
-# from a stand the server has verified.
+# $PICTURE), run the fastest skill forward, backward, left, right, turning left and turning right
+# back to back, track a velocity with the skill selector, then stop the server cleanly. Every
+# motion starts only from a stand the server has verified.
 # Everything stays on this machine (Cyclone on loopback, a partition of its own).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,15 +26,17 @@ echo "== skills in $library"
 echo "== stand"
 "${ctl[@]}" stand
 # Among the skills that never fell in the library's evaluations (the longest survival listed;
-# skilld refuses the others), the one that goes fastest forward, fastest backward, and turns
-# fastest left and right: columns 2 and 4 of the list are the mean vx and yaw rate.
+# skilld refuses the others), the one that goes fastest forward, backward, left and right, and
+# turns fastest left and right: columns 2, 3 and 4 of the list are the mean vx, vy and yaw rate.
 picks=$(awk 'NR > 1 { if ($7 > longest) longest = $7; row[NR] = $0 }
              END { for (i in row) { split(row[i], f); if (f[7] != longest) continue
                      if (fw == "" || f[2] > fwv) { fw = f[1]; fwv = f[2] }
                      if (bw == "" || f[2] < bwv) { bw = f[1]; bwv = f[2] }
+                     if (lw == "" || f[3] > lwv) { lw = f[1]; lwv = f[3] }
+                     if (rw == "" || f[3] < rwv) { rw = f[1]; rwv = f[3] }
                      if (lt == "" || f[4] > ltv) { lt = f[1]; ltv = f[4] }
                      if (rt == "" || f[4] < rtv) { rt = f[1]; rtv = f[4] } }
-                   print fw, bw, lt, rt }' /tmp/flsd_demo_skills.$$)
+                   print fw, bw, lw, rw, lt, rt }' /tmp/flsd_demo_skills.$$)
 rm -f /tmp/flsd_demo_skills.$$
 status=0
 picture=${PICTURE:-build/demo_navigation.svg}

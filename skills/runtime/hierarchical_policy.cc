@@ -32,10 +32,10 @@ HierarchicalPolicy::HierarchicalPolicy(const SkillLibrary& library, SelectorKind
       policy_(library),
       task_obs_(kTaskObsSize),
       logits_(library.num_skills()) {
-  if (kind == SelectorKind::kLearned) {
-    selector_.emplace(SelectorOf(library));
-  } else {
+  if (kind == SelectorKind::kLearned) selector_.emplace(SelectorOf(library));
+  if (kind == SelectorKind::kNearestSkill || library.selector()->nearest_prior_temperature > 0.0) {
     nearest_.emplace(library);
+    prior_.resize(library.num_skills());
   }
 }
 
@@ -58,6 +58,10 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
     if (selector_) {
       BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
       selector_->Run(task_obs_.data(), logits_.data());
+      if (nearest_) {
+        nearest_->Prior(clipped.data(), library_.selector()->nearest_prior_temperature, prior_.data());
+        for (size_t k = 0; k < logits_.size(); ++k) logits_[k] += prior_[k];
+      }
       held_skill_ = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
     } else {
       held_skill_ = nearest_->Choose(clipped.data());

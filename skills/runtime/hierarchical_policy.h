@@ -2,7 +2,8 @@
 // A skill library driven by velocity commands: a selector chooses the skill, the skill policy
 // acts under it. The selector is the library's learned one, as the paper runs it (Sec. IV-C: the
 // most probable skill for (o^m, command), chosen every decision_interval control steps and held in
-// between), or the nearest-skill selector (nearest_skill.h), which any library can use.
+// between; its logits plus the nearest-skill prior if it was trained with one), or the
+// nearest-skill selector (nearest_skill.h), which any library can use.
 
 #include <array>
 #include <optional>
@@ -48,9 +49,9 @@ class HierarchicalPolicy {
   const SkillLibrary& library_;
   SelectorKind kind_;
   std::optional<NetworkRunner> selector_;
-  std::optional<NearestSkillSelector> nearest_;
+  std::optional<NearestSkillSelector> nearest_;  // the selector, or the learned one's prior
   PolicyRunner policy_;
-  std::vector<float> task_obs_, logits_;
+  std::vector<float> task_obs_, logits_, prior_;
   int held_skill_ = -1, ticks_held_ = 0;
 };
 

@@ -36,7 +36,7 @@ TightestTurn TightestTurnOf(const SkillLibrary& library) {
   return both;
 }
 
-NearestSkillSelector::NearestSkillSelector(const SkillLibrary& library) {
+NearestSkillSelector::NearestSkillSelector(const SkillLibrary& library) : num_skills_(library.num_skills()) {
   min_.setConstant(std::numeric_limits<double>::infinity());
   max_.setConstant(-std::numeric_limits<double>::infinity());
   for (const SkillDescriptor& d : library.skills()) {
@@ -59,19 +59,29 @@ std::array<double, 3> NearestSkillSelector::Clip(const double* command) const {
   return clipped;
 }
 
-int NearestSkillSelector::Choose(const double* command) const {
+double NearestSkillSelector::SquaredDistance(size_t i, const double* command) const {
   const Eigen::Vector3d weight(1.0, 1.0, kTurnWeight);
-  const Eigen::Vector3d c(command[0], command[1], command[2]);
+  return (velocity_[i] - Eigen::Vector3d(command[0], command[1], command[2])).cwiseProduct(weight).squaredNorm();
+}
+
+int NearestSkillSelector::Choose(const double* command) const {
   int best = 0;
   double best_distance = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < candidates_.size(); ++i) {
-    const double distance = (velocity_[i] - c).cwiseProduct(weight).squaredNorm();
+    const double distance = SquaredDistance(i, command);
     if (distance < best_distance) {
       best_distance = distance;
       best = static_cast<int>(i);
     }
   }
   return candidates_[best];
+}
+
+void NearestSkillSelector::Prior(const double* command, double temperature, float* logits) const {
+  std::fill(logits, logits + num_skills_, kExcludedLogit);
+  for (size_t i = 0; i < candidates_.size(); ++i) {
+    logits[candidates_[i]] = static_cast<float>(-SquaredDistance(i, command) / temperature);
+  }
 }
 
 }  // namespace flsd

@@ -27,12 +27,23 @@ class NearestSkillSelector {
   std::array<double, 3> Clip(const double* command) const;
   // The skill nearest `command` (vx, vy, wz), by |v_k - c| with yaw rate weighted by kTurnWeight.
   int Choose(const double* command) const;
+  // A learned selector's prior over all the library's skills (logits[num_skills()]): -d^2 /
+  // temperature for a candidate at that distance from `command`, kExcludedLogit for the rest. A
+  // selector that adds its network's logits to it starts as a soft nearest-skill selector (its
+  // argmax is Choose's) and learns corrections to it, never a choice of an undependable skill.
+  void Prior(const double* command, double temperature, float* logits) const;
+  static constexpr float kExcludedLogit = -1e4f;
+  int num_skills() const { return num_skills_; }
   const std::vector<int>& candidates() const { return candidates_; }
   // The range of the candidates' (vx, vy, wz), per axis.
   const Eigen::Vector3d& velocity_min() const { return min_; }
   const Eigen::Vector3d& velocity_max() const { return max_; }
 
  private:
+  // Squared distance, yaw rate weighted, from candidate i's velocity to `command`.
+  double SquaredDistance(size_t i, const double* command) const;
+
+  int num_skills_;
   std::vector<int> candidates_;
   std::vector<Eigen::Vector3d> velocity_;  // vx, vy, wz of each candidate
   Eigen::Vector3d min_, max_;

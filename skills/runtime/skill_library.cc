@@ -306,6 +306,12 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
     if (!(selector.min_planar_speed >= 0.0)) m.Fail("/selector/commands/min_planar_speed", "must be at least 0");
     selector.decision_interval = m.Get<int>("/selector/decision_interval");
     if (selector.decision_interval < 1) m.Fail("/selector/decision_interval", "must be at least 1");
+    if (m.Has("/selector/nearest_prior_temperature")) {
+      selector.nearest_prior_temperature = m.Get<double>("/selector/nearest_prior_temperature");
+      if (!(selector.nearest_prior_temperature >= 0.0)) {
+        m.Fail("/selector/nearest_prior_temperature", "must be at least 0 (0: no prior)");
+      }
+    }
     lib.selector_ = std::move(selector);
   }
 

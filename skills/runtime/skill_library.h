@@ -89,6 +89,9 @@ struct SelectorNetwork {
   std::array<double, 3> command_min{}, command_max{};  // vx, vy, wz
   double min_planar_speed = 0.0;  // slower (vx, vy) commands were zeroed in training, and are here
   int decision_interval = 1;  // control steps each chosen skill is held, as in training
+  // > 0: the network's logits are added to NearestSkillSelector::Prior at this temperature, as in
+  // training (absent from the file: 0, no prior).
+  double nearest_prior_temperature = 0.0;
 };
 
 // A command (vx, vy, wz) as the selector sees it: clipped to the ranges it was trained on, its

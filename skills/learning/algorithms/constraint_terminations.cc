@@ -13,7 +13,8 @@ double ConstraintTerminations::MaxP(int constraint, int iteration) const {
       config_.ramp_iterations > 0
           ? std::clamp(static_cast<double>(iteration - first_iteration_) / config_.ramp_iterations, 0.0, 1.0)
           : 1.0;
-  return config_.max_p.lo + progress * (config_.max_p.hi - config_.max_p.lo);
+  const double max_p = config_.max_p.lo + progress * (config_.max_p.hi - config_.max_p.lo);
+  return constraint == static_cast<int>(Constraint::kFootSlip) ? std::min(1.0, config_.foot_slip_factor * max_p) : max_p;
 }
 
 torch::Tensor ConstraintTerminations::Probabilities(const torch::Tensor& violations, int iteration,

@@ -27,12 +27,16 @@ struct ConstraintTerminationConfig {
   int ramp_iterations = 1000;
   // A knee on the floor is a hard constraint, as CaT's body contacts: it always ends the episode.
   double calf_contact_max_p = 1.0;
+  // The stance-foot slip's max_p is the soft constraints' times this (at most 1): a run can press
+  // on slip harder than on the rest, whose full CaT probabilities stop every skill.
+  double foot_slip_factor = 1.0;
   double ema_decay = 0.95;  // of the batch's largest violation, per constraint
   template <class V>
   void Visit(V& v) {
     v("max_p", max_p, Bounds<double>{0.0, 1.0});
     v("ramp_iterations", ramp_iterations, Bounds<int>{0, 100000000});
     v("calf_contact_max_p", calf_contact_max_p, Bounds<double>{0.0, 1.0});
+    v("foot_slip_factor", foot_slip_factor, Bounds<double>{0.0, 1e3});
     v("ema_decay", ema_decay, Bounds<double>{0.0, 1.0});
   }
 };

@@ -157,6 +157,7 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
       {"activation", "elu"},
       {"layers", config.policy.actor_hidden.size() + 1},
       {"decision_interval", config.decision_interval},
+      {"nearest_prior_temperature", config.nearest_prior_temperature},
       {"observation",
        {{"motion", kMotionObsSize},
         {"command", kCommandSize},

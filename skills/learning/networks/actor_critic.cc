@@ -41,9 +41,19 @@ torch::Tensor ActorCriticImpl::Sample(const torch::Tensor& distribution) const {
 }
 
 CategoricalActorCriticImpl::CategoricalActorCriticImpl(int actor_inputs, int critic_inputs, int choices,
-                                                       const PolicyConfig& config, int value_streams) {
-  actor_ = register_module("actor", MakeMlp(actor_inputs, config.actor_hidden, choices));
-  critic_ = register_module("critic", MakeMlp(critic_inputs, config.critic_hidden, value_streams));
+                                                       const PolicyConfig& config, int value_streams, bool prior_logits)
+    : prior_(prior_logits ? choices : 0) {
+  actor_ = register_module("actor", MakeMlp(actor_inputs - prior_, config.actor_hidden, choices));
+  critic_ = register_module("critic", MakeMlp(critic_inputs - prior_, config.critic_hidden, value_streams));
+}
+
+torch::Tensor CategoricalActorCriticImpl::Distribution(const torch::Tensor& obs) {
+  const torch::Tensor logits = actor_->forward(WithoutPrior(obs));
+  return prior_ > 0 ? logits + obs.narrow(-1, obs.size(-1) - prior_, prior_) : logits;
+}
+
+torch::Tensor CategoricalActorCriticImpl::Value(const torch::Tensor& critic_obs) {
+  return StreamValues(critic_->forward(WithoutPrior(critic_obs)));
 }
 
 torch::Tensor CategoricalActorCriticImpl::LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const {

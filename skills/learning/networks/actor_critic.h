@@ -66,22 +66,28 @@ class ActorCriticImpl : public PpoPolicyImpl {
 TORCH_MODULE(ActorCritic);
 
 // A categorical policy over `choices` (the skill selector): its distribution tensor is the
-// logits, its action the chosen index as a float column [B, 1].
+// logits, its action the chosen index as a float column [B, 1]. With `prior_logits`, each
+// observation row ends in `choices` prior logits (NearestSkillSelector::Prior) that the actor's
+// logits are added to; the networks read the columns before them.
 class CategoricalActorCriticImpl : public PpoPolicyImpl {
  public:
   CategoricalActorCriticImpl(int actor_inputs, int critic_inputs, int choices, const PolicyConfig& config,
-                             int value_streams = 1);
+                             int value_streams = 1, bool prior_logits = false);
 
-  torch::Tensor Distribution(const torch::Tensor& obs) override { return actor_->forward(obs); }
-  torch::Tensor Value(const torch::Tensor& critic_obs) override { return StreamValues(critic_->forward(critic_obs)); }
+  torch::Tensor Distribution(const torch::Tensor& obs) override;
+  torch::Tensor Value(const torch::Tensor& critic_obs) override;
   torch::Tensor LogProb(const torch::Tensor& distribution, const torch::Tensor& actions) const override;
   torch::Tensor Entropy(const torch::Tensor& distribution) const override;
   torch::Tensor Kl(const torch::Tensor& old_distribution, const torch::Tensor& distribution) const override;
   torch::Tensor Sample(const torch::Tensor& distribution) const override;
 
+  // Reads the observation without its prior columns (what is exported).
   torch::nn::Sequential actor() const { return actor_; }
 
  private:
+  torch::Tensor WithoutPrior(const torch::Tensor& obs) const { return obs.narrow(-1, 0, obs.size(-1) - prior_); }
+
+  int prior_;  // trailing prior columns: 0 or choices
   torch::nn::Sequential actor_{nullptr}, critic_{nullptr};
 };
 TORCH_MODULE(CategoricalActorCritic);

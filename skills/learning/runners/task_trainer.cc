@@ -37,8 +37,13 @@ TaskMethod ParseTaskMethod(const std::string& name) {
   throw InputError("method: expected 'selector' or 'scratch', got '" + name + "'");
 }
 
-int TaskPolicyObsSize(TaskMethod method) {
+int NormalizedTaskObsSize(TaskMethod method) {
   return method == TaskMethod::kSelector ? kTaskObsSize : kTaskObsSize + kActionSize;
+}
+
+int TaskPolicyObsSize(const TaskTrainConfig& config, int num_skills) {
+  const TaskMethod method = ParseTaskMethod(config.method);
+  return NormalizedTaskObsSize(method) + (method == TaskMethod::kSelector && config.nearest_prior() ? num_skills : 0);
 }
 
 void ValidateTaskTrainConfig(const TaskTrainConfig& config, const std::string& where) {
@@ -46,6 +51,9 @@ void ValidateTaskTrainConfig(const TaskTrainConfig& config, const std::string& w
     const TaskMethod method = ParseTaskMethod(config.method);
     if (method == TaskMethod::kSelector && config.library.empty()) {
       throw InputError("library: the selector needs a skill library to choose from (models/*.safetensors)");
+    }
+    if (method == TaskMethod::kScratch && config.nearest_prior()) {
+      throw InputError("nearest_prior_temperature: a prior over skills needs method 'selector'; expected 0");
     }
     if (method == TaskMethod::kScratch && config.decision_interval != 1) {
       throw InputError("decision_interval: the scratch policy acts every control step; expected 1, got " +
@@ -68,19 +76,21 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config, const Communicator& comm
       comm_(comm),
       method_(ParseTaskMethod(config.method)),
       library_(LoadSelectorLibrary(config)),
+      nearest_(library_ && config.nearest_prior() ? std::make_optional<NearestSkillSelector>(*library_) : std::nullopt),
       num_envs_(LocalEnvCount(config.num_envs, comm)),
       steps_(config.steps_per_env),
-      obs_size_(TaskPolicyObsSize(method_)),
+      obs_size_(TaskPolicyObsSize(config, library_ ? library_->num_skills() : 0)),
       task_(config.env, config.task, num_envs_, config.seed, ResolveThreadCount(config.num_threads),
             comm.rank() * num_envs_),
       streams_(config.value_streams()),
       scratch_(method_ == TaskMethod::kScratch
                    ? ActorCritic(obs_size_, obs_size_, kActionSize, config.policy, streams_)
                    : ActorCritic(nullptr)),
-      selector_(library_ ? CategoricalActorCritic(obs_size_, obs_size_, library_->num_skills(), config.policy, streams_)
+      selector_(library_ ? CategoricalActorCritic(obs_size_, obs_size_, library_->num_skills(), config.policy, streams_,
+                                                  config.nearest_prior())
                          : CategoricalActorCritic(nullptr)),
       policy_(library_ ? std::shared_ptr<PpoPolicyImpl>(selector_.ptr()) : std::shared_ptr<PpoPolicyImpl>(scratch_.ptr())),
-      learner_(policy_, obs_size_, config.ppo, config.seed, comm),
+      learner_(policy_, NormalizedTaskObsSize(method_), config.ppo, config.seed, comm),
       rollout_(learner_.rollout()) {
   ValidateTaskTrainConfig(config, "task training config");
   if (library_ && (config.env.action_filter_hz != library_->action_filter_hz() ||
@@ -111,6 +121,19 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config, const Communicator& comm
                             selector ? library_->num_skills() : 2 * kActionSize, streams_});
   raw_obs_ = torch::zeros({n, obs_size_}, f);
   if (config.mirror) raw_rollout_obs_ = torch::zeros({t, n, obs_size_}, f);
+  if (nearest_) {
+    commands_ = torch::zeros({n, 3}, torch::kFloat64);
+    if (config.mirror) rollout_commands_ = torch::zeros({t, n, 3}, torch::kFloat64);
+  }
+}
+
+torch::Tensor TaskTrainer::PriorLogits(const torch::Tensor& commands) const {
+  const torch::Tensor c = commands.contiguous();
+  torch::Tensor prior = torch::empty({c.size(0), library_->num_skills()}, torch::kFloat32);
+  for (int64_t i = 0; i < c.size(0); ++i) {
+    nearest_->Prior(c.data_ptr<double>() + 3 * i, config_.nearest_prior_temperature, prior.data_ptr<float>() + i * prior.size(1));
+  }
+  return prior;
 }
 
 torch::Tensor TaskTrainer::Observations(bool update_normalizer) {
@@ -123,8 +146,14 @@ torch::Tensor TaskTrainer::Observations(bool update_normalizer) {
       std::copy(&previous_action_[i * kActionSize], &previous_action_[(i + 1) * kActionSize], row + kTaskObsSize);
     }
   }
-  if (update_normalizer) learner_.UpdateNormalizer(raw_obs_);
-  return learner_.normalizer()->Normalize(raw_obs_);
+  if (nearest_) {
+    double* commands = commands_.data_ptr<double>();
+    for (int i = 0; i < num_envs_; ++i) Eigen::Map<Eigen::Vector3d>(commands + 3 * i) = task_.command(i);
+    raw_obs_.narrow(1, kTaskObsSize, library_->num_skills()).copy_(PriorLogits(commands_));
+  }
+  const int normalized = NormalizedTaskObsSize(method_);
+  if (update_normalizer) learner_.UpdateNormalizer(raw_obs_.narrow(1, 0, normalized));
+  return NormalizeLeadingColumns(learner_.normalizer(), raw_obs_);
 }
 
 // The joint actions for this step: the chosen skill's (the frozen low-level policy, run as the
@@ -155,6 +184,7 @@ void TaskTrainer::Collect(TaskIterationStats& stats) {
     const torch::Tensor action = policy_->Sample(distribution);
     rollout_.obs[t].copy_(obs);
     if (raw_rollout_obs_.defined()) raw_rollout_obs_[t].copy_(raw_obs_);
+    if (rollout_commands_.defined()) rollout_commands_[t].copy_(commands_);
     rollout_.actions[t].copy_(action);
     rollout_.distributions[t].copy_(distribution);
     rollout_.log_probs[t].copy_(policy_->LogProb(distribution, action));
@@ -259,8 +289,14 @@ MirroredSamples TaskTrainer::MirroredRollout() const {
     }
   }
   const int64_t count = raw_rollout_obs_.size(0) * raw_rollout_obs_.size(1);
+  const torch::Tensor raw = raw_rollout_obs_.view({count, obs_size_});
+  torch::Tensor mirrored = MirrorAlong(obs, raw.narrow(1, 0, obs.size()), 1);
+  if (nearest_) {  // the prior of the mirrored command (vx, -vy, -wz)
+    const torch::Tensor flip = torch::tensor({1.0, -1.0, -1.0}, torch::kFloat64);
+    mirrored = torch::cat({mirrored, PriorLogits(rollout_commands_.view({count, 3}) * flip)}, 1);
+  }
   MirroredSamples m;
-  m.obs = learner_.normalizer()->Normalize(MirrorAlong(obs, raw_rollout_obs_.view({count, obs_size_}), 1));
+  m.obs = NormalizeLeadingColumns(learner_.normalizer(), mirrored);
   m.critic_obs = m.obs;  // the critic sees what the actor sees
   const torch::Tensor actions = rollout_.actions.view({count, -1});
   if (method_ == TaskMethod::kScratch) {
@@ -328,9 +364,10 @@ void TaskTrainer::LoadCheckpoint(const std::string& path) {
 TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skills, const std::string& checkpoint) {
   torch::serialize::InputArchive archive = OpenCheckpoint(checkpoint);
   TrainedSelector out;
-  const int obs = TaskPolicyObsSize(TaskMethod::kSelector);
-  out.policy = CategoricalActorCritic(obs, obs, num_skills, config.policy, config.value_streams());
-  out.normalizer = RunningNormalizer(obs);
+  const int obs = TaskPolicyObsSize(config, num_skills);
+  out.policy =
+      CategoricalActorCritic(obs, obs, num_skills, config.policy, config.value_streams(), config.nearest_prior());
+  out.normalizer = RunningNormalizer(NormalizedTaskObsSize(TaskMethod::kSelector));
   try {
     ReadPolicyParts(archive, *out.policy, *out.normalizer, out.iteration, out.env_steps);
     out.library_fingerprint = ReadString(archive, "library_fingerprint");

@@ -47,6 +47,12 @@ struct TaskTrainConfig {
   // PPO), unclipped; the logged reward stays legged_gym's clipped one, for comparison.
   bool reward_streams = false;
   int value_streams() const { return reward_streams ? 2 : 1; }
+  // Not the paper's; 0 turns it off. The selector's logits are its network's plus the
+  // nearest-skill prior at this temperature ((m/s)^2, NearestSkillSelector::Prior): it starts
+  // as a soft nearest-skill selector and learns what to do better, instead of from a uniform
+  // choice that switches the robot off its feet. The exported library records the temperature.
+  double nearest_prior_temperature = 0.0;
+  bool nearest_prior() const { return nearest_prior_temperature > 0.0; }
   int iterations = 500;
   int checkpoint_every = 25;
   EnvConfig env;
@@ -65,6 +71,7 @@ struct TaskTrainConfig {
     v("switch_penalty", switch_penalty, Bounds<double>{-1e3, 0.0});
     v("mirror", mirror);
     v("reward_streams", reward_streams);
+    v("nearest_prior_temperature", nearest_prior_temperature, Bounds<double>{0.0, 1e3});
     v("iterations", iterations, Bounds<int>{1, 100000000});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("env", env);
@@ -77,9 +84,11 @@ struct TaskTrainConfig {
 TaskTrainConfig LoadTaskTrainConfig(const std::string& path, const std::vector<std::string>& overrides = {});
 void ValidateTaskTrainConfig(const TaskTrainConfig& config, const std::string& where);
 
-// The observation the task policy sees: o^c for the selector; o^c and the previous joint action
-// for the scratch policy, whose action is the joint action itself.
-int TaskPolicyObsSize(TaskMethod method);
+// The observation the task policy sees: o^c for the selector (then its prior logits, one per
+// skill, with a nearest-skill prior); o^c and the previous joint action for the scratch policy,
+// whose action is the joint action itself. The leading NormalizedTaskObsSize columns are normalised.
+int TaskPolicyObsSize(const TaskTrainConfig& config, int num_skills);
+int NormalizedTaskObsSize(TaskMethod method);
 
 struct TaskIterationStats {
   int iteration = 0;
@@ -138,11 +147,14 @@ class TaskTrainer {
   torch::Tensor Observations(bool update_normalizer);
   void JointActions(const torch::Tensor& policy_action);
   MirroredSamples MirroredRollout() const;
+  // The nearest-skill prior of each row of commands [B, 3] (vx, vy, wz): [B, num_skills].
+  torch::Tensor PriorLogits(const torch::Tensor& commands) const;
 
   TaskTrainConfig config_;
   const Communicator& comm_;
   TaskMethod method_;
   std::optional<SkillLibrary> library_;
+  std::optional<NearestSkillSelector> nearest_;  // the prior's, with nearest_prior
   int num_envs_, steps_, obs_size_;
   VelocityTask task_;
   int streams_;  // reward streams: 1, or 2 (tracking, and the rest)
@@ -163,6 +175,8 @@ class TaskTrainer {
 
   torch::Tensor raw_obs_, last_values_;
   torch::Tensor raw_rollout_obs_;  // [T, N, obs] unnormalised, with mirror
+  torch::Tensor commands_;          // [N, 3] this step's, with nearest_prior
+  torch::Tensor rollout_commands_;  // [T, N, 3], with nearest_prior and mirror
 };
 
 // Per axis (vx, vy, wz), the range of the velocities of the library's surviving skills, with 0

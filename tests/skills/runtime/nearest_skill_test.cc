@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -73,6 +74,29 @@ TEST(NearestSkillSelector, ChoosesTheSurvivingSkillNearestTheCommand) {
   const double far[3] = {2.0, -3.0, 5.0};
   const std::array<double, 3> clipped = selector.Clip(far);
   EXPECT_EQ(clipped, (std::array<double, 3>{0.5, 0.0, 1.2}));
+  std::remove(path.c_str());
+}
+
+// The prior a learned selector adds to its logits: -d^2 / T for the candidates (its argmax is
+// Choose's), kExcludedLogit for a skill that fell.
+TEST(NearestSkillSelector, ItsPriorPeaksAtItsChoiceAndExcludesTheFallen) {
+  const std::string path = WriteLibrary({{0, 0, 0}, {0.5, 0, 0.1}, {-0.4, 0, 0}, {0, 0, -1.0}, {0.9, 0, 0}}, {4});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  const NearestSkillSelector selector(library);
+  std::vector<float> prior(selector.num_skills());
+  const double forward[3] = {0.5, 0, 0};
+  selector.Prior(forward, 0.1, prior.data());
+  EXPECT_FLOAT_EQ(prior[0], -0.25 / 0.1);
+  EXPECT_FLOAT_EQ(prior[1], -(0.5 * 0.1) * (0.5 * 0.1) / 0.1);  // yaw rate weighted by kTurnWeight
+  EXPECT_FLOAT_EQ(prior[2], -0.81 / 0.1);
+  EXPECT_FLOAT_EQ(prior[4], NearestSkillSelector::kExcludedLogit);
+  for (double vx = -1.0; vx <= 1.0; vx += 0.25) {
+    for (double wz = -1.0; wz <= 1.0; wz += 0.5) {
+      const double c[3] = {vx, 0.1, wz};
+      selector.Prior(c, 0.3, prior.data());
+      EXPECT_EQ(std::max_element(prior.begin(), prior.end()) - prior.begin(), selector.Choose(c)) << vx << " " << wz;
+    }
+  }
   std::remove(path.c_str());
 }
 

@@ -102,5 +102,23 @@ TEST(ConstraintTerminations, TheRampCountsFromTheFirstConstrainedIteration) {
   EXPECT_NEAR(legacy.Probabilities(Violations(), 500, Communicator::Self(), stats)[0][0].item<double>(), 0.15, 1e-6);
 }
 
+TEST(ConstraintTerminations, TheSlipFactorScalesOnlyTheSlipsMaxPAndCapsItAtOne) {
+  ConstraintTerminationConfig config;
+  config.max_p = {0.01, 0.1};
+  config.foot_slip_factor = 4.0;
+  ConstraintTerminations cat(config);
+  ConstraintStats stats;
+  torch::Tensor v = Violations();
+  v[0][3][kSpeed] = 1.0f;  // env 3 overspeeds at half the scale (2)
+  const torch::Tensor p = cat.Probabilities(v, 0, Communicator::Self(), stats);
+  EXPECT_NEAR(p[0][0].item<double>(), 0.04, 1e-7);               // slip at its scale: 4 x 0.01
+  EXPECT_NEAR(p[0][1].item<double>(), 0.04 * 0.1 / 0.4, 1e-7);  // a quarter of the scale
+  EXPECT_NEAR(p[0][3].item<double>(), 0.01 * 0.5, 1e-7);         // joint speed keeps max_p
+  config.foot_slip_factor = 20.0;  // 20 x 0.01 at the ramp's start, 20 x 0.1 (capped at 1) at its end
+  ConstraintTerminations capped(config);
+  EXPECT_NEAR(capped.Probabilities(Violations(), 0, Communicator::Self(), stats)[0][0].item<double>(), 0.2, 1e-7);
+  EXPECT_NEAR(capped.Probabilities(Violations(), 1000, Communicator::Self(), stats)[0][0].item<double>(), 1.0, 1e-7);
+}
+
 }  // namespace
 }  // namespace flsd

@@ -17,6 +17,8 @@
 #include "skills/learning/evaluation/export.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/learning/tasks/velocity_task.h"
+#include "skills/runtime/hierarchical_policy.h"
+#include "skills/runtime/nearest_skill.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
 
@@ -235,6 +237,44 @@ TEST_F(TaskTraining, TheSelectorHoldsItsChoiceForItsDecisionInterval) {
   selector.Run(obs.data(), logits.data());
   EXPECT_EQ(hierarchy.Act(motion[1].data_ptr<float>(), command, previous.data(), action.data()),
             std::max_element(logits.begin(), logits.end()) - logits.begin());
+}
+
+// With a nearest-skill prior the selector's logits are its network's plus the prior of the command
+// (NearestSkillSelector::Prior), in training (mirrored rollouts too) and as skilld serves it.
+TEST_F(TaskTraining, ASelectorWithANearestSkillPriorIsServedWithTheSamePrior) {
+  config_.nearest_prior_temperature = 0.05;
+  config_.mirror = true;
+  ASSERT_EQ(Train("prior", 2), 0);
+  const std::string out = Path("prior.safetensors");
+  ExportSelector(Path("prior"), out);
+  const SkillLibrary library = SkillLibrary::Load(out);
+  ASSERT_EQ(library.selector()->nearest_prior_temperature, 0.05);
+  const NearestSkillSelector nearest(library);
+  TrainedSelector trained = LoadTrainedSelector(config_, library.num_skills(), Path("prior/checkpoint.pt"));
+  HierarchicalPolicy hierarchy(library);
+  torch::manual_seed(13);
+  const torch::Tensor motion = torch::randn({16, kMotionObsSize});
+  std::vector<float> obs(kTaskObsSize), prior(library.num_skills()), action(kActionSize), previous(kActionSize, 0.0f);
+  torch::NoGradGuard no_grad;
+  int nearest_chosen = 0;
+  for (int i = 0; i < 16; ++i) {
+    const double raw[3] = {-1.5 + 0.2 * i, 0.7 - 0.09 * i, 0.8 - 0.1 * i};
+    const std::array<double, 3> command = hierarchy.Clip(raw);
+    BuildTaskObservation(motion[i].data_ptr<float>(), command.data(), obs.data());
+    nearest.Prior(command.data(), 0.05, prior.data());
+    const torch::Tensor row = torch::cat({trained.normalizer->Normalize(torch::tensor(obs).unsqueeze(0)),
+                                          torch::tensor(prior).unsqueeze(0)}, 1);
+    const torch::Tensor logits = trained.policy->Distribution(row)[0];
+    hierarchy.Reset();
+    const int chosen = hierarchy.Act(motion[i].data_ptr<float>(), command.data(), previous.data(), action.data());
+    EXPECT_EQ(chosen, logits.argmax().item<int64_t>()) << "command " << i;
+    EXPECT_GT(prior[chosen], NearestSkillSelector::kExcludedLogit) << "an undependable skill, command " << i;
+    nearest_chosen += chosen == nearest.Choose(command.data());
+  }
+  // Two iterations leave the network's logits small beside the prior: mostly the nearest skill.
+  EXPECT_GE(nearest_chosen, 12);
+  config_.method = "scratch";
+  EXPECT_THAT(InputErrorMessage([&] { Train("scratch_prior", 1); }), HasSubstr("nearest_prior_temperature"));
 }
 
 TEST_F(TaskTraining, ExportingAScratchRunIsRefused) {

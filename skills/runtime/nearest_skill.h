@@ -35,6 +35,8 @@ class NearestSkillSelector {
   static constexpr float kExcludedLogit = -1e4f;
   int num_skills() const { return num_skills_; }
   const std::vector<int>& candidates() const { return candidates_; }
+  // Each candidate's (vx, vy, wz), in the order of candidates().
+  const std::vector<Eigen::Vector3d>& velocities() const { return velocity_; }
   // The range of the candidates' (vx, vy, wz), per axis.
   const Eigen::Vector3d& velocity_min() const { return min_; }
   const Eigen::Vector3d& velocity_max() const { return max_; }

@@ -454,6 +454,13 @@ int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop
       commands.vy = envelope[1];
       commands.wz = envelope[2];
     }
+    if (commands.skill_share > 0.0) {
+      commands.skill_velocities.clear();
+      const NearestSkillSelector dependable(library);
+      for (const Eigen::Vector3d& v : dependable.velocities()) {
+        commands.skill_velocities.insert(commands.skill_velocities.end(), {v.x(), v.y(), v.z()});
+      }
+    }
   }
   const Communicator& comm =
       StartRun(folder, ToYamlString(config), options.resume, config.num_envs, config.num_threads);

@@ -17,6 +17,7 @@ VelocityTask::VelocityTask(const EnvConfig& env, const VelocityTaskConfig& confi
       reward_(num_envs, VelocityTrackingReward(config.reward)),
       terms_(num_envs),
       rewards_(num_envs, 0.0f) {
+  ValidateSkillCommands(config.commands);
   for (int i = 0; i < num_envs; ++i) {
     command_rng_.emplace_back(StreamSeed(seed + kCommandStream, first_env + i));
     NewCommand(i);

@@ -2,16 +2,37 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "core/check.h"
 
 namespace flsd {
 
 Eigen::Vector3d SampleVelocityCommand(Rng& rng, const VelocityCommandConfig& config) {
   // Drawn only when asked for, so that configs without zero commands keep their random streams.
   if (config.zero_share > 0.0 && Uniform(rng, 0.0, 1.0) < config.zero_share) return Eigen::Vector3d::Zero();
-  Eigen::Vector3d command(Uniform(rng, config.vx.lo, config.vx.hi), Uniform(rng, config.vy.lo, config.vy.hi),
-                          Uniform(rng, config.wz.lo, config.wz.hi));
+  Eigen::Vector3d command;
+  if (config.skill_share > 0.0 && Uniform(rng, 0.0, 1.0) < config.skill_share) {
+    const std::vector<double>& v = config.skill_velocities;  // validated: triples, at least one
+    const size_t skill = std::min(v.size() / 3 - 1, static_cast<size_t>(Uniform(rng, 0.0, v.size() / 3.0)));
+    for (int a = 0; a < 3; ++a) {
+      command[a] = v[3 * skill + a] + Uniform(rng, -config.skill_noise[a], config.skill_noise[a]);
+    }
+  } else {
+    command = {Uniform(rng, config.vx.lo, config.vx.hi), Uniform(rng, config.vy.lo, config.vy.hi),
+               Uniform(rng, config.wz.lo, config.wz.hi)};
+  }
   if (command.head<2>().norm() < config.min_planar_speed) command.head<2>().setZero();
   return command;
+}
+
+void ValidateSkillCommands(const VelocityCommandConfig& config) {
+  const size_t n = config.skill_velocities.size();
+  if (config.skill_share > 0.0 && (n == 0 || n % 3 != 0 || config.skill_noise.size() != 3)) {
+    throw InputError("task.commands: skill_share needs skill_velocities as (vx, vy, wz) triples (a new selector run "
+                     "takes them from its library) and skill_noise of 3 values; got " + std::to_string(n) + " and " +
+                     std::to_string(config.skill_noise.size()) + " values");
+  }
 }
 
 void VelocityTrackingReward::Reset(const RobotState& state) {

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <vector>
 
 #include "core/config.h"
 #include "core/rng.h"
@@ -25,6 +26,13 @@ struct VelocityCommandConfig {
   // A new selector run sets vx, vy and wz to the range of its library's surviving skills'
   // velocities, widened by this factor (0: keep the ranges given): commands it can follow.
   double library_envelope = 0.0;
+  // A share of the commands is drawn near what some skill does: one of skill_velocities (flat
+  // (vx, vy, wz) triples), uniformly, plus uniform noise within +-skill_noise on each axis. A new
+  // selector run with skill_share > 0 fills skill_velocities from its library's dependable skills,
+  // so that it learns where its skills can follow (the uniform box is mostly combinations none can).
+  double skill_share = 0.0;
+  std::vector<double> skill_noise{0.2, 0.2, 0.4};  // m/s, m/s, rad/s
+  std::vector<double> skill_velocities;
   template <class V>
   void Visit(V& v) {
     v("vx", vx, Bounds<double>{-5.0, 5.0});
@@ -34,12 +42,18 @@ struct VelocityCommandConfig {
     v("min_planar_speed", min_planar_speed, Bounds<double>{0.0, 5.0});
     v("zero_share", zero_share, Bounds<double>{0.0, 1.0});
     v("library_envelope", library_envelope, Bounds<double>{0.0, 10.0});
+    v("skill_share", skill_share, Bounds<double>{0.0, 1.0});
+    v("skill_noise", skill_noise, Bounds<double>{0.0, 10.0});
+    v("skill_velocities", skill_velocities, Bounds<double>{-10.0, 10.0});
   }
 };
 
-// (vx, vy, wz), each uniform in its range, xy zeroed below min_planar_speed; zero with
-// probability zero_share.
+// Zero with probability zero_share; else near a skill's velocity with probability skill_share; else
+// (vx, vy, wz) each uniform in its range. xy is zeroed below min_planar_speed. With skill_share,
+// config must pass ValidateSkillCommands.
 Eigen::Vector3d SampleVelocityCommand(Rng& rng, const VelocityCommandConfig& config);
+// InputError unless skill_share is 0 or skill_velocities holds (vx, vy, wz) triples and skill_noise 3 values.
+void ValidateSkillCommands(const VelocityCommandConfig& config);
 
 // Calls f(name, a.term, b.term) for every reward term (not the total) of a and b, which may be
 // VelocityRewardTerms or VelocityRewardConfig: the one list of terms for whatever pairs them up.

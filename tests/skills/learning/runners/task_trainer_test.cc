@@ -118,6 +118,15 @@ TEST_F(TaskTraining, MirroredRunsOverTheLibrarysEnvelopeTrain) {
   EXPECT_EQ(saved.task.commands.wz, envelope[2]);
   config_.method = "scratch";
   ASSERT_EQ(Train("mirrored_scratch", 2), 0);
+  // Commands near the skills: the run records every dependable skill's (vx, vy, wz).
+  config_.method = "selector";
+  config_.task.commands.skill_share = 0.5;
+  ASSERT_EQ(Train("near_skills", 1), 0);
+  const NearestSkillSelector nearest(SkillLibrary::Load(library_));
+  const std::vector<double> recorded = LoadTaskTrainConfig(Path("near_skills/config.yaml")).task.commands.skill_velocities;
+  ASSERT_EQ(recorded.size(), 3 * nearest.candidates().size());
+  EXPECT_DOUBLE_EQ(recorded[3], nearest.velocities()[1].x());
+  EXPECT_DOUBLE_EQ(recorded.back(), nearest.velocities().back().z());
 }
 
 // With reward streams the critic has two value heads: the run trains, resumes from its checkpoint,

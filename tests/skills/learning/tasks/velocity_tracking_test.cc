@@ -2,12 +2,17 @@
 
 #include "skills/learning/tasks/velocity_tracking.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "tests/common/test_support.h"
+
 namespace flsd {
 namespace {
+
+using ::testing::HasSubstr;
 
 constexpr double kDt = a1::kControlDt;
 
@@ -125,6 +130,32 @@ TEST(SampleVelocityCommand, StaysInItsRangesAndZeroesSlowPlanarCommands) {
   }
   // The disc of radius 0.2 covers pi 0.04 / 4 of the square: about 3.1 %.
   EXPECT_NEAR(zeroed / 10000.0, M_PI * 0.04 / 4.0, 0.006);
+}
+
+// Half the commands near one of two skills (+-0.1 m/s, +-0.2 rad/s), the rest uniform in the
+// ranges; a skill share without skill velocities in triples is refused.
+TEST(SampleVelocityCommand, DrawsItsSkillShareNearTheSkillsVelocities) {
+  VelocityCommandConfig config;
+  config.skill_share = 0.5;
+  config.skill_noise = {0.1, 0.1, 0.2};
+  config.skill_velocities = {0.5, 0.0, 0.0, -0.1, 0.6, 0.8};
+  config.min_planar_speed = 0.0;
+  ValidateSkillCommands(config);
+  Rng rng(9);
+  int near[2] = {0, 0};
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d c = SampleVelocityCommand(rng, config);
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector3d v(&config.skill_velocities[3 * k]);
+      near[k] += std::abs(c.x() - v.x()) <= 0.1 && std::abs(c.y() - v.y()) <= 0.1 && std::abs(c.z() - v.z()) <= 0.2;
+    }
+  }
+  // Each skill gets a quarter of the draws, plus the uniform draws that land in its box (0.2 x 0.2
+  // x 0.4 of the 2 x 2 x 2 box: 0.2 % of the other half).
+  for (int k = 0; k < 2; ++k) EXPECT_NEAR(near[k] / double(n), 0.25 + 0.5 * 0.002, 0.01) << "skill " << k;
+  config.skill_velocities = {0.5, 0.0};
+  EXPECT_THAT(testutil::InputErrorMessage([&] { ValidateSkillCommands(config); }), HasSubstr("triples"));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// flsd eval, export, export-selector, compose-library and track.
+// flsd eval, export, export-selector, compose-library, track and transitions.
 
 #include <cstdio>
 #include <memory>
@@ -8,6 +8,7 @@
 #include "skills/learning/evaluation/evaluation.h"
 #include "skills/learning/evaluation/export.h"
 #include "skills/learning/evaluation/tracking_eval.h"
+#include "skills/learning/evaluation/transition_eval.h"
 #include "skills/learning/runners/training_run.h"
 #include "skills/runtime/compose_library.h"
 #include "skills/runtime/skill_library.h"
@@ -104,6 +105,24 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   out.push_back({track_cmd, [track] {
                    const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(track->library));
                    return PrintJson(CompareSelectors(library, track->seconds, 2.0, 1));
+                 }});
+
+  struct TransitionArgs {
+    std::string library = "models/a1_flsd.safetensors";
+    double first = 2.0, seconds = 4.0;
+  };
+  auto transitions = std::make_shared<TransitionArgs>();
+  CLI::App* transitions_cmd = app.add_subcommand(
+      "transitions", "Switch between every ordered pair of a library's dependable skills, and count the falls");
+  transitions_cmd->add_option("library", transitions->library, "Skill library (default: the shipped one)");
+  transitions_cmd->add_option("--first", transitions->first, "Seconds the first skill runs from a stand")
+      ->check(CLI::Range(0.5, 60.0));
+  transitions_cmd->add_option("--seconds", transitions->seconds, "Seconds the second skill runs")
+      ->check(CLI::Range(1.5, 60.0));
+  out.push_back({transitions_cmd, [transitions] {
+                   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(transitions->library));
+                   return PrintJson(TransitionJson(EvaluateTransitions(library, TrainingEnvOf(library), transitions->first,
+                                                                       transitions->seconds, 1.0, 1)));
                  }});
 }
 

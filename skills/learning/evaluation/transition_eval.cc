@@ -1,0 +1,100 @@
+#include "skills/learning/evaluation/transition_eval.h"
+
+#include <cmath>
+
+#include "robot/observation.h"
+#include "sim/env.h"
+#include "skills/runtime/nearest_skill.h"
+
+namespace flsd {
+namespace {
+
+// Runs `skill` for `steps` control steps from the env's state; false if the robot fell. With
+// `mean`, writes the mean body velocity (vx, vy, wz) of the steps from `settle` on.
+bool RunSkill(Env& env, PolicyRunner& runner, int skill, int steps, std::array<float, kActionSize>& previous,
+              int settle = 0, std::array<double, 3>* mean = nullptr) {
+  std::array<float, kMotionObsSize> motion{};
+  std::array<float, kActionSize> action{};
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int t = 0; t < steps; ++t) {
+    BuildMotionObservation(env.state(), motion.data());
+    runner.Act(motion.data(), previous.data(), skill, action.data());
+    previous = action;
+    if (IsFailure(env.Step(action.data()))) return false;
+    if (t >= settle) {
+      const RobotState& s = env.state();
+      sum += Eigen::Vector3d(s.base_linear_velocity.x(), s.base_linear_velocity.y(), s.base_angular_velocity.z());
+    }
+  }
+  if (mean && steps > settle) {
+    sum /= steps - settle;
+    *mean = {sum.x(), sum.y(), sum.z()};
+  }
+  return true;
+}
+
+}  // namespace
+
+TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvConfig& env_config, double first_seconds,
+                                         double second_seconds, double settle_seconds, uint64_t seed) {
+  EnvConfig config = env_config;
+  config.randomization.DisableAll();
+  config.reset.standing_fraction = 1.0;  // from a stand, as skilld starts a skill
+  config.action_filter_hz = library.action_filter_hz();
+  config.action_filter_order = library.action_filter_order();
+  auto steps_of = [](double seconds) { return static_cast<int>(std::lround(seconds / a1::kControlDt)); };
+  const int first = steps_of(first_seconds), second = steps_of(second_seconds), settle = steps_of(settle_seconds);
+  config.episode_steps = first + second + 1;
+  const MjModelPtr model = LoadMjModel(config.model);
+  PolicyRunner runner(library);
+
+  TransitionEvaluation out;
+  out.first_seconds = first_seconds;
+  out.second_seconds = second_seconds;
+  out.settle_seconds = settle_seconds;
+  out.skills = NearestSkillSelector(library).candidates();
+  out.falls_into.assign(out.skills.size(), 0);
+  for (size_t j = 0; j < out.skills.size(); ++j) {
+    const int to = out.skills[j];
+    std::vector<int> sources{-1};
+    sources.insert(sources.end(), out.skills.begin(), out.skills.end());
+    for (int from : sources) {
+      if (from == to) continue;
+      Env env(*model, config, seed);
+      env.Reset();
+      std::array<float, kActionSize> previous{};
+      TransitionResult r{from, to};
+      r.fell = (from >= 0 && !RunSkill(env, runner, from, first, previous)) ||
+               !RunSkill(env, runner, to, second, previous, settle, &r.achieved);
+      if (from >= 0) {
+        ++out.pairs;
+        out.falls += r.fell;
+        out.falls_into[j] += r.fell;
+      }
+      out.results.push_back(r);
+    }
+  }
+  return out;
+}
+
+nlohmann::json TransitionJson(const TransitionEvaluation& e) {
+  nlohmann::json results = nlohmann::json::array(), into = nlohmann::json::object();
+  for (const TransitionResult& r : e.results) {
+    results.push_back({{"from", r.from < 0 ? nlohmann::json("stand") : nlohmann::json(r.from)},
+                       {"to", r.to},
+                       {"fell", r.fell},
+                       {"achieved", r.achieved}});
+  }
+  for (size_t j = 0; j < e.skills.size(); ++j) into[std::to_string(e.skills[j])] = e.falls_into[j];
+  return {{"first_seconds", e.first_seconds},
+          {"second_seconds", e.second_seconds},
+          {"settle_seconds", e.settle_seconds},
+          {"skills", e.skills},
+          {"pairs", e.pairs},
+          {"falls", e.falls},
+          {"fall_share", e.pairs > 0 ? static_cast<double>(e.falls) / e.pairs : 0.0},
+          {"falls_into", into},
+          {"results", results}};
+}
+
+}  // namespace flsd

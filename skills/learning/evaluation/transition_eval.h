@@ -1,0 +1,38 @@
+#pragma once
+// Whether a library's skills can start from each other's motion: for every ordered pair (a, b) of
+// its dependable skills (those the nearest-skill selector chooses from), skill a runs from a stand,
+// then skill b takes over with no stand between, as a selector switches them. A selector can only
+// use a skill from the states it can start from; a library joined from several runs has skills
+// that never saw each other's states in training. Simulated without randomisation, with the
+// physics the skills trained on, run as skilld runs them (PolicyRunner, Eigen). Plain C++.
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <vector>
+
+#include "sim/env_config.h"
+#include "skills/runtime/skill_library.h"
+
+namespace flsd {
+
+struct TransitionResult {
+  int from = -1, to = -1;  // skill ids; from -1: b started from the stand itself
+  bool fell = false;       // during b (or a: then b never ran, and this counts as a fall too)
+  std::array<double, 3> achieved{};  // b's mean (vx, vy, wz) after it settled, if it did not fall
+};
+
+struct TransitionEvaluation {
+  double first_seconds = 0.0, second_seconds = 0.0, settle_seconds = 0.0;
+  std::vector<int> skills;                // the dependable skills, in id order
+  std::vector<TransitionResult> results;  // per target b: from the stand, then from each a != b
+  int pairs = 0, falls = 0;               // over the ordered pairs (not the starts from a stand)
+  std::vector<int> falls_into;            // per skill of `skills`: the pairs that fell switching to it
+};
+
+// a runs first_seconds, b second_seconds; b's velocity is averaged after settle_seconds of it.
+TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvConfig& env, double first_seconds,
+                                         double second_seconds, double settle_seconds, uint64_t seed);
+nlohmann::json TransitionJson(const TransitionEvaluation& evaluation);
+
+}  // namespace flsd

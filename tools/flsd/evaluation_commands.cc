@@ -121,8 +121,9 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
       ->check(CLI::Range(1.5, 60.0));
   out.push_back({transitions_cmd, [transitions] {
                    const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(transitions->library));
-                   return PrintJson(TransitionJson(EvaluateTransitions(library, TrainingEnvOf(library), transitions->first,
-                                                                       transitions->seconds, 1.0, 1)));
+                   const TransitionEvaluation evaluation = EvaluateTransitions(
+                       library, TrainingEnvOf(library), transitions->first, transitions->seconds, 1.0, 1);
+                   return PrintJson(TransitionJson(evaluation));
                  }});
 }
 

@@ -130,8 +130,9 @@ TaskTrainer::TaskTrainer(const TaskTrainConfig& config, const Communicator& comm
 torch::Tensor TaskTrainer::PriorLogits(const torch::Tensor& commands) const {
   const torch::Tensor c = commands.contiguous();
   torch::Tensor prior = torch::empty({c.size(0), library_->num_skills()}, torch::kFloat32);
+  const int64_t skills = prior.size(1);
   for (int64_t i = 0; i < c.size(0); ++i) {
-    nearest_->Prior(c.data_ptr<double>() + 3 * i, config_.nearest_prior_temperature, prior.data_ptr<float>() + i * prior.size(1));
+    nearest_->Prior(c.data_ptr<double>() + 3 * i, config_.nearest_prior_temperature, prior.data_ptr<float>() + i * skills);
   }
   return prior;
 }

@@ -22,14 +22,9 @@ TrackingError TrackingErrorOf(const std::array<double, 3>& achieved, const std::
 
 TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env_config, double seconds,
                                     double settle_seconds, uint64_t seed, SelectorKind selector) {
-  EnvConfig config = env_config;
-  config.randomization.DisableAll();
-  config.reset.standing_fraction = 1.0;  // from a stand, as skilld starts a velocity
-  config.action_filter_hz = library.action_filter_hz();  // as skilld runs the skills
-  config.action_filter_order = library.action_filter_order();
   const int steps = static_cast<int>(std::lround(seconds / a1::kControlDt));
   const int settle = static_cast<int>(std::lround(settle_seconds / a1::kControlDt));
-  config.episode_steps = steps + 1;
+  const EnvConfig config = ServedEnvConfig(library, env_config, steps + 1);
   const MjModelPtr model = LoadMjModel(config.model);
   HierarchicalPolicy policy(library, selector);
 
@@ -110,6 +105,16 @@ EnvConfig TrainingEnvOf(const SkillLibrary& library) {
   EnvConfig env;
   if (config["env"]) ReadConfig(config["env"], library.path() + ": training config: env.", env);
   return env;
+}
+
+EnvConfig ServedEnvConfig(const SkillLibrary& library, const EnvConfig& env, int steps) {
+  EnvConfig config = env;
+  config.randomization.DisableAll();
+  config.reset.standing_fraction = 1.0;  // skilld starts a skill or a velocity from a stand
+  config.action_filter_hz = library.action_filter_hz();
+  config.action_filter_order = library.action_filter_order();
+  config.episode_steps = steps;
+  return config;
 }
 
 nlohmann::json CompareSelectors(const SkillLibrary& library, double seconds, double settle_seconds, uint64_t seed) {

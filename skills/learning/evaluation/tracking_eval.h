@@ -55,6 +55,9 @@ nlohmann::json TrackingJson(const TrackingEvaluation& evaluation);
 // The simulated A1 a library's skills were trained on (its metadata's training config), for
 // evaluating them as they were trained.
 EnvConfig TrainingEnvOf(const SkillLibrary& library);
+// `env` as skilld's simulated A1 runs the library: no randomisation, every start from a stand,
+// the library's target filter, and episodes of `steps` control steps.
+EnvConfig ServedEnvConfig(const SkillLibrary& library, const EnvConfig& env, int steps);
 
 // `flsd track`: the eight commands with the library's learned selector (where it has one) and
 // with the nearest-skill selector, side by side.

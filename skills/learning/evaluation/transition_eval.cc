@@ -4,6 +4,7 @@
 
 #include "robot/observation.h"
 #include "sim/env.h"
+#include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/runtime/nearest_skill.h"
 
 namespace flsd {
@@ -37,14 +38,9 @@ bool RunSkill(Env& env, PolicyRunner& runner, int skill, int steps, std::array<f
 
 TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvConfig& env_config, double first_seconds,
                                          double second_seconds, double settle_seconds, uint64_t seed) {
-  EnvConfig config = env_config;
-  config.randomization.DisableAll();
-  config.reset.standing_fraction = 1.0;  // from a stand, as skilld starts a skill
-  config.action_filter_hz = library.action_filter_hz();
-  config.action_filter_order = library.action_filter_order();
   auto steps_of = [](double seconds) { return static_cast<int>(std::lround(seconds / a1::kControlDt)); };
   const int first = steps_of(first_seconds), second = steps_of(second_seconds), settle = steps_of(settle_seconds);
-  config.episode_steps = first + second + 1;
+  const EnvConfig config = ServedEnvConfig(library, env_config, first + second + 1);
   const MjModelPtr model = LoadMjModel(config.model);
   PolicyRunner runner(library);
 
@@ -54,10 +50,10 @@ TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvC
   out.settle_seconds = settle_seconds;
   out.skills = NearestSkillSelector(library).candidates();
   out.falls_into.assign(out.skills.size(), 0);
+  std::vector<int> sources{-1};  // the stand, then every skill
+  sources.insert(sources.end(), out.skills.begin(), out.skills.end());
   for (size_t j = 0; j < out.skills.size(); ++j) {
     const int to = out.skills[j];
-    std::vector<int> sources{-1};
-    sources.insert(sources.end(), out.skills.begin(), out.skills.end());
     for (int from : sources) {
       if (from == to) continue;
       Env env(*model, config, seed);

@@ -9,12 +9,16 @@ namespace flsd {
 
 double ConstraintTerminations::MaxP(int constraint, int iteration) const {
   if (constraint == static_cast<int>(Constraint::kCalfContact)) return config_.calf_contact_max_p;
-  const double progress =
-      config_.ramp_iterations > 0
-          ? std::clamp(static_cast<double>(iteration - first_iteration_) / config_.ramp_iterations, 0.0, 1.0)
-          : 1.0;
-  const double max_p = config_.max_p.lo + progress * (config_.max_p.hi - config_.max_p.lo);
-  return constraint == static_cast<int>(Constraint::kFootSlip) ? std::min(1.0, config_.foot_slip_factor * max_p) : max_p;
+  const double max_p = config_.max_p.lo + RampProgress(iteration, 0) * (config_.max_p.hi - config_.max_p.lo);
+  if (constraint != static_cast<int>(Constraint::kFootSlip)) return max_p;
+  const double factor_progress = config_.foot_slip_start > 0 ? RampProgress(iteration, config_.foot_slip_start) : 1.0;
+  const double factor = 1.0 + factor_progress * (config_.foot_slip_factor - 1.0);
+  return std::min(1.0, factor * max_p);
+}
+
+double ConstraintTerminations::RampProgress(int iteration, int delay) const {
+  if (config_.ramp_iterations <= 0) return iteration - first_iteration_ >= delay ? 1.0 : 0.0;
+  return std::clamp(static_cast<double>(iteration - first_iteration_ - delay) / config_.ramp_iterations, 0.0, 1.0);
 }
 
 torch::Tensor ConstraintTerminations::Probabilities(const torch::Tensor& violations, int iteration,

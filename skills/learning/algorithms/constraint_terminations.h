@@ -30,6 +30,10 @@ struct ConstraintTerminationConfig {
   // The stance-foot slip's max_p is the soft constraints' times this (at most 1): a run can press
   // on slip harder than on the rest, whose full CaT probabilities stop every skill.
   double foot_slip_factor = 1.0;
+  // With a start of 0 the factor holds from the first constrained iteration; otherwise it ramps in
+  // linearly from 1 over ramp_iterations, starting this many iterations after that one: pressure on
+  // slip from the start keeps skills from learning to walk, so a run can let its movers appear first.
+  int foot_slip_start = 0;
   double ema_decay = 0.95;  // of the batch's largest violation, per constraint
   template <class V>
   void Visit(V& v) {
@@ -37,6 +41,7 @@ struct ConstraintTerminationConfig {
     v("ramp_iterations", ramp_iterations, Bounds<int>{0, 100000000});
     v("calf_contact_max_p", calf_contact_max_p, Bounds<double>{0.0, 1.0});
     v("foot_slip_factor", foot_slip_factor, Bounds<double>{0.0, 1e3});
+    v("foot_slip_start", foot_slip_start, Bounds<int>{0, 100000000});
     v("ema_decay", ema_decay, Bounds<double>{0.0, 1.0});
   }
 };
@@ -62,6 +67,8 @@ class ConstraintTerminations {
 
  private:
   double MaxP(int constraint, int iteration) const;
+  // 0 to 1 over ramp_iterations, from `delay` iterations after the first constrained one.
+  double RampProgress(int iteration, int delay) const;
 
   ConstraintTerminationConfig config_;
   int first_iteration_ = -1;                     // the ramp's start; -1 before any batch

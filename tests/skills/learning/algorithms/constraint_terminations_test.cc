@@ -120,5 +120,23 @@ TEST(ConstraintTerminations, TheSlipFactorScalesOnlyTheSlipsMaxPAndCapsItAtOne) 
   EXPECT_NEAR(capped.Probabilities(Violations(), 1000, Communicator::Self(), stats)[0][0].item<double>(), 1.0, 1e-7);
 }
 
+TEST(ConstraintTerminations, ADelayedSlipFactorRampsInFromOneAfterItsStart) {
+  ConstraintTerminationConfig config;
+  config.max_p = {0.01, 0.01};
+  config.ramp_iterations = 100;
+  config.foot_slip_factor = 5.0;
+  config.foot_slip_start = 1000;
+  ConstraintTerminations cat(config);
+  ConstraintStats stats;
+  const auto slip_p = [&](int iteration) {
+    return cat.Probabilities(Violations(), iteration, Communicator::Self(), stats)[0][0].item<double>();
+  };
+  EXPECT_NEAR(slip_p(200), 0.01, 1e-7);   // the first constrained iteration: the factor is 1
+  EXPECT_NEAR(slip_p(1200), 0.01, 1e-7);  // 1000 after it, the factor's ramp starts
+  EXPECT_NEAR(slip_p(1250), 0.03, 1e-7);  // halfway: 1 + 0.5 x 4
+  EXPECT_NEAR(slip_p(1300), 0.05, 1e-7);
+  EXPECT_NEAR(slip_p(9000), 0.05, 1e-7);
+}
+
 }  // namespace
 }  // namespace flsd

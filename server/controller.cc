@@ -16,16 +16,18 @@ int Ticks(double seconds) { return static_cast<int>(std::lround(seconds / a1::kC
 // legs folded under the body, the rising robot pins its feet too close and stands pitched.)
 constexpr a1::JointArray<double> kLyingPose = {-0.45, 1.1, -2.6, 0.45, 1.1, -2.6, -0.45, 1.45, -2.6, 0.45, 1.45, -2.6};
 
-// The selector config.selector names, or none: "learned" over a library without a selector, or
-// "auto" over one without a selector or a surviving skill, leaves the velocity calls unavailable.
-std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const std::string& selector) {
+// The selector `selector` names, or none: "learned" over a library without a selector, or "auto"
+// over one without a selector or a surviving skill, leaves the calls it serves unavailable. "auto"
+// without a learned selector is `analytic`.
+std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const std::string& selector,
+                                                SelectorKind analytic) {
   const bool learned = selector == "learned" || (selector == "auto" && library.selector());
   if (learned) {
     return library.selector() ? std::optional<HierarchicalPolicy>(std::in_place, library) : std::nullopt;
   }
   if (selector == "auto") {
     try {
-      return std::optional<HierarchicalPolicy>(std::in_place, library, SelectorKind::kNearestSkill);
+      return std::optional<HierarchicalPolicy>(std::in_place, library, analytic);
     } catch (const InputError&) {
       return std::nullopt;
     }
@@ -41,10 +43,22 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       config_(config),
       supervisor_(config.safety),
       runner_(library),
-      hierarchy_(MakeHierarchy(library, config.selector)),
+      velocity_selector_(MakeHierarchy(library, config.selector, SelectorKind::kTimeSharing)),
+      navigation_selector_(MakeHierarchy(library, config.navigation.selector, SelectorKind::kNearestSkill)),
       target_filter_(library.action_filter_hz(), library.action_filter_order()) {
   state_ = backend_.Read();
   Publish();
+}
+
+HierarchicalPolicy* Controller::Hierarchy(Mode mode) {
+  if (mode == Mode::kVelocity) return velocity_selector_ ? &*velocity_selector_ : nullptr;
+  if (mode == Mode::kNavigate) return navigation_selector_ ? &*navigation_selector_ : nullptr;
+  return nullptr;
+}
+
+const HierarchicalPolicy* Controller::selector(bool navigation) const {
+  const std::optional<HierarchicalPolicy>& chosen = navigation ? navigation_selector_ : velocity_selector_;
+  return chosen ? &*chosen : nullptr;
 }
 
 bool Controller::Submit(const ControlRequest& request) {
@@ -173,8 +187,9 @@ void Controller::Apply(const ControlRequest& request) {
       pending_ticks_ = std::max(1, Ticks(request.duration));
       break;
     case ControlRequest::Kind::kVelocity: {
-      if (!hierarchy_) return;  // the request side refuses these
       const Mode mode = request.navigate ? Mode::kNavigate : Mode::kVelocity;
+      HierarchicalPolicy* hierarchy = Hierarchy(mode);
+      if (!hierarchy) return;  // the request side refuses these
       const bool walking = mode_ == Mode::kVelocity || mode_ == Mode::kNavigate;
       if (task_.state == TaskState::kRunning) EndTask(TaskState::kPreempted, "preempted by a new velocity task");
       StartTask(request, dds::CallName(request.navigate ? dds::Call::kNavigate : dds::Call::kTrackVelocity));
@@ -188,8 +203,9 @@ void Controller::Apply(const ControlRequest& request) {
         EndTask(TaskState::kSafetyStop, why);
         return;
       }
-      velocity_command_ = hierarchy_->Clip(request.velocity.data());
-      if (walking) {  // already under the selector: change the command without stopping
+      velocity_command_ = hierarchy->Clip(request.velocity.data());
+      if (walking) {  // already under a selector: change the command without stopping
+        if (Hierarchy(mode_) != hierarchy) hierarchy->Reset();
         mode_ = mode;
         task_ticks_left_ = std::max(1, Ticks(request.duration));
         return;
@@ -201,11 +217,11 @@ void Controller::Apply(const ControlRequest& request) {
       break;
     }
     case ControlRequest::Kind::kVelocityUpdate:
-      if (!hierarchy_ || task_.state != TaskState::kRunning || task_.request_id != request.request_id ||
+      if (!Hierarchy(mode_) || task_.state != TaskState::kRunning || task_.request_id != request.request_id ||
           task_.client_id != request.client_id) {
         return;  // that task has ended
       }
-      velocity_command_ = hierarchy_->Clip(request.velocity.data());
+      velocity_command_ = Hierarchy(mode_)->Clip(request.velocity.data());
       task_.message = request.reason;
       break;
     case ControlRequest::Kind::kStop:
@@ -319,7 +335,7 @@ void Controller::StartPending() {
   pending_ticks_ = 0;
   previous_action_.fill(0.0f);  // as at the start of a training episode
   target_filter_.Reset(state_.joint_position);
-  if (hierarchy_) hierarchy_->Reset();
+  if (HierarchicalPolicy* hierarchy = Hierarchy(mode_)) hierarchy->Reset();
 }
 
 bool Controller::Standing(char* why, std::size_t size) const {
@@ -405,7 +421,7 @@ JointCommand Controller::SkillCommand() {
 
 JointCommand Controller::VelocityCommand() {
   BuildMotionObservation(state_, motion_obs_.data());
-  skill_ = hierarchy_->Act(motion_obs_.data(), velocity_command_.data(), previous_action_.data(), action_.data());
+  skill_ = Hierarchy(mode_)->Act(motion_obs_.data(), velocity_command_.data(), previous_action_.data(), action_.data());
   return PolicyCommand();
 }
 

@@ -103,10 +103,9 @@ class Controller {
   bool WaitForTickAfter(uint64_t tick, std::chrono::nanoseconds timeout, ControllerStatus& out) const;
 
   const SkillLibrary& library() const { return library_; }
-  // Whether track_velocity and navigate can run: the library carries a skill selector.
-  bool has_selector() const { return hierarchy_.has_value(); }
-  // The velocity calls' selector, or nullptr when the server has none.
-  const HierarchicalPolicy* selector() const { return hierarchy_ ? &*hierarchy_ : nullptr; }
+  // The selector of track_velocity, or of navigate, or nullptr when the server has none for it
+  // (the call is then unavailable).
+  const HierarchicalPolicy* selector(bool navigation = false) const;
   const ServerConfig& config() const { return config_; }
   bool backend_can_reset() const { return backend_.CanReset(); }
 
@@ -133,6 +132,8 @@ class Controller {
   JointCommand StandCommand();
   JointCommand SkillCommand();
   JointCommand VelocityCommand();
+  // The selector that mode runs under (kVelocity, kNavigate), or nullptr.
+  HierarchicalPolicy* Hierarchy(Mode mode);
   // Checks and applies a policy's joint action; counts the task's time down.
   JointCommand PolicyCommand();
   // A skill or velocity task whose time is up: it succeeded (a navigation timed out); stand.
@@ -146,8 +147,9 @@ class Controller {
   ServerConfig config_;
   SafetySupervisor supervisor_;
   PolicyRunner runner_;
-  std::optional<HierarchicalPolicy> hierarchy_;  // when the library has a selector
-  TargetFilter target_filter_;                   // the library's, as in training
+  // The velocity mode's and the navigation mode's selectors (config selector, navigation.selector).
+  std::optional<HierarchicalPolicy> velocity_selector_, navigation_selector_;
+  TargetFilter target_filter_;  // the library's, as in training
 
   // Control-thread state.
   RobotState state_;

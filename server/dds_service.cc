@@ -44,7 +44,7 @@ DdsService::DdsService(const ServerConfig& config, Controller& controller, const
       domain_(config.domain_id, config.partition, config.security),
       replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos),
       states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
-      navigator_(controller.has_selector() ? std::make_unique<Navigator>(controller, config.navigation) : nullptr),
+      navigator_(controller.selector(true) ? std::make_unique<Navigator>(controller, config.navigation) : nullptr),
       handler_(controller, config, navigator_.get()),
       audit_(config.audit_log, config.audit_certificates),
       skills_(MakeSkillInfos(controller.library())),

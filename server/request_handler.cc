@@ -303,11 +303,13 @@ ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
 
 std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, dds::Call call,
                                                      const std::string& client_id, const DeferredReply& later) {
-  if (!controller_.has_selector()) {
-    return Reply(ReplyStatus::kNotAvailable, std::string(dds::CallName(call)) + " is not available: the skill library " +
-                                                     controller_.library().path() +
-                                                     " has no skill selector (flsd export-selector adds one) and the "
-                                                     "server's selector is '" + config_.selector + "'");
+  const bool navigation = call == dds::Call::kNavigate;
+  if (!controller_.selector(navigation)) {
+    return Reply(ReplyStatus::kNotAvailable,
+                 std::string(dds::CallName(call)) + " is not available: the skill library " +
+                     controller_.library().path() + " has no skill selector (flsd export-selector adds one) and the " +
+                     "server's " + (navigation ? "navigation.selector" : "selector") + " is '" +
+                     (navigation ? config_.navigation.selector : config_.selector) + "'");
   }
   ControlRequest control;
   control.kind = ControlRequest::Kind::kVelocity;

@@ -88,6 +88,10 @@ struct NavigationConfig {
   // segments, for a robot that turns in place); above 1, room for the follower's lag.
   double turn_radius_scale = 1.2;
   FollowerConfig follower;
+  // What chooses the skill for navigate, as the top-level selector; "auto" is learned if the
+  // library has a selector and nearest_skill if not: the follower's command changes every tick,
+  // and time-sharing's 1 s holds lag its steering (docs/serving.md).
+  std::string selector = "auto";
   template <class V>
   void Visit(V& v) {
     v("map", map);
@@ -99,6 +103,7 @@ struct NavigationConfig {
     v("rate_hz", rate_hz, Bounds<double>{1.0, 50.0});
     v("turn_radius_scale", turn_radius_scale, Bounds<double>{0.0, 10.0});
     v("follower", follower);
+    v("selector", selector);
   }
 };
 
@@ -114,10 +119,11 @@ struct ServerConfig {
   int request_burst = 100;
   int control_priority = 80;  // SCHED_FIFO priority of the control loop; 0: the normal scheduler
   int cpu_latency_us = 0;     // /dev/cpu_dma_latency while serving (0: idle CPUs poll); -1: untouched
-  // What chooses the skill for track_velocity and navigate: "learned" (the library's selector; the
-  // calls are unavailable without one), "nearest_skill" (the skill whose measured velocity is
-  // nearest the command, skills/runtime/nearest_skill.h), or "auto": learned if the library has a
-  // selector, nearest_skill if not.
+  // What chooses the skill for track_velocity: "learned" (the library's selector; the call is
+  // unavailable without one), "nearest_skill" (the skill whose measured velocity is nearest the
+  // command, skills/runtime/nearest_skill.h), "time_sharing" (skills alternated so that their
+  // velocities average the command, same file), or "auto": learned if the library has a selector,
+  // time_sharing if not. navigation.selector chooses for navigate.
   std::string selector = "auto";
   StandCheckConfig stand_check;
   SafetyConfig safety;

@@ -18,12 +18,20 @@ const DenseNetwork& SelectorOf(const SkillLibrary& library) {
 
 }  // namespace
 
-const char* ToString(SelectorKind kind) { return kind == SelectorKind::kLearned ? "learned" : "nearest_skill"; }
+const char* ToString(SelectorKind kind) {
+  switch (kind) {
+    case SelectorKind::kLearned: return "learned";
+    case SelectorKind::kNearestSkill: return "nearest_skill";
+    case SelectorKind::kTimeSharing: return "time_sharing";
+  }
+  return "?";
+}
 
 SelectorKind ParseSelectorKind(const std::string& name) {
-  if (name == "learned") return SelectorKind::kLearned;
-  if (name == "nearest_skill") return SelectorKind::kNearestSkill;
-  throw InputError("selector '" + name + "': expected learned or nearest_skill");
+  for (SelectorKind kind : {SelectorKind::kLearned, SelectorKind::kNearestSkill, SelectorKind::kTimeSharing}) {
+    if (name == ToString(kind)) return kind;
+  }
+  throw InputError("selector '" + name + "': expected learned or nearest_skill or time_sharing");
 }
 
 HierarchicalPolicy::HierarchicalPolicy(const SkillLibrary& library, SelectorKind kind)
@@ -33,26 +41,35 @@ HierarchicalPolicy::HierarchicalPolicy(const SkillLibrary& library, SelectorKind
       task_obs_(kTaskObsSize),
       logits_(library.num_skills()) {
   if (kind == SelectorKind::kLearned) selector_.emplace(SelectorOf(library));
-  if (kind == SelectorKind::kNearestSkill || library.selector()->nearest_prior_temperature > 0.0) {
+  if (kind == SelectorKind::kTimeSharing) {
+    time_sharing_.emplace(library);
+  } else if (kind == SelectorKind::kNearestSkill || library.selector()->nearest_prior_temperature > 0.0) {
     nearest_.emplace(library);
     prior_.resize(library.num_skills());
   }
 }
 
 std::array<double, 3> HierarchicalPolicy::Clip(const double* command) const {
-  return selector_ ? ClipCommand(*library_.selector(), command) : nearest_->Clip(command);
+  return selector_ ? ClipCommand(*library_.selector(), command) : Nearest().Clip(command);
 }
 
 std::array<std::array<double, 3>, 2> HierarchicalPolicy::CommandRange() const {
   if (selector_) return {library_.selector()->command_min, library_.selector()->command_max};
-  const Eigen::Vector3d& lo = nearest_->velocity_min();
-  const Eigen::Vector3d& hi = nearest_->velocity_max();
+  const Eigen::Vector3d& lo = Nearest().velocity_min();
+  const Eigen::Vector3d& hi = Nearest().velocity_max();
   return {std::array<double, 3>{lo.x(), lo.y(), lo.z()}, std::array<double, 3>{hi.x(), hi.y(), hi.z()}};
+}
+
+void HierarchicalPolicy::Reset() {
+  held_skill_ = -1;
+  if (time_sharing_) time_sharing_->Reset();
 }
 
 int HierarchicalPolicy::Act(const float* motion_obs, const double* command, const float* previous_action,
                             float* action) {
-  const int hold = selector_ ? library_.selector()->decision_interval : kNearestSkillHoldSteps;
+  const int hold = selector_       ? library_.selector()->decision_interval
+                   : time_sharing_ ? kTimeSharingHoldSteps
+                                   : kNearestSkillHoldSteps;
   if (held_skill_ < 0 || ticks_held_ >= hold) {
     const std::array<double, 3> clipped = Clip(command);
     if (selector_) {
@@ -63,6 +80,8 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
         for (size_t k = 0; k < logits_.size(); ++k) logits_[k] += prior_[k];
       }
       held_skill_ = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
+    } else if (time_sharing_) {
+      held_skill_ = time_sharing_->Choose(clipped.data(), hold * a1::kControlDt);
     } else {
       held_skill_ = nearest_->Choose(clipped.data());
     }

@@ -64,17 +64,17 @@ double NearestSkillSelector::SquaredDistance(size_t i, const double* command) co
   return (velocity_[i] - Eigen::Vector3d(command[0], command[1], command[2])).cwiseProduct(weight).squaredNorm();
 }
 
-int NearestSkillSelector::Choose(const double* command) const {
-  int best = 0;
+size_t NearestSkillSelector::NearestCandidate(const double* command) const {
+  size_t best = 0;
   double best_distance = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < candidates_.size(); ++i) {
     const double distance = SquaredDistance(i, command);
     if (distance < best_distance) {
       best_distance = distance;
-      best = static_cast<int>(i);
+      best = i;
     }
   }
-  return candidates_[best];
+  return best;
 }
 
 void NearestSkillSelector::Prior(const double* command, double temperature, float* logits) const {
@@ -82,6 +82,20 @@ void NearestSkillSelector::Prior(const double* command, double temperature, floa
   for (size_t i = 0; i < candidates_.size(); ++i) {
     logits[candidates_[i]] = static_cast<float>(-SquaredDistance(i, command) / temperature);
   }
+}
+
+int TimeSharingSelector::Choose(const double* command, double seconds) {
+  const Eigen::Vector3d wanted(command[0], command[1], command[2]);
+  const Eigen::Vector3d weight(1.0, 1.0, NearestSkillSelector::kTurnWeight);
+  if (!owed_to_ || (wanted - *owed_to_).cwiseProduct(weight).norm() > kNewCommand) {
+    owed_.setZero();
+    owed_to_ = wanted;
+  }
+  // |owed + (wanted - v) seconds| is least for the v nearest wanted + owed / seconds.
+  const Eigen::Vector3d target = wanted + owed_ / seconds;
+  const size_t chosen = nearest_.NearestCandidate(target.data());
+  owed_ = (owed_ + (wanted - nearest_.velocities()[chosen]) * seconds).cwiseMax(-kMaxOwed).cwiseMin(kMaxOwed);
+  return nearest_.candidates()[chosen];
 }
 
 }  // namespace flsd

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "skills/runtime/skill_library.h"
@@ -26,7 +27,9 @@ class NearestSkillSelector {
   // The command clipped to what the candidates can do: each axis to their velocities' range.
   std::array<double, 3> Clip(const double* command) const;
   // The skill nearest `command` (vx, vy, wz), by |v_k - c| with yaw rate weighted by kTurnWeight.
-  int Choose(const double* command) const;
+  int Choose(const double* command) const { return candidates_[NearestCandidate(command)]; }
+  // Its index in candidates() and velocities().
+  size_t NearestCandidate(const double* command) const;
   // A learned selector's prior over all the library's skills (logits[num_skills()]): -d^2 /
   // temperature for a candidate at that distance from `command`, kExcludedLogit for the rest. A
   // selector that adds its network's logits to it starts as a soft nearest-skill selector (its
@@ -49,6 +52,36 @@ class NearestSkillSelector {
   std::vector<int> candidates_;
   std::vector<Eigen::Vector3d> velocity_;  // vx, vy, wz of each candidate
   Eigen::Vector3d min_, max_;
+};
+
+// The nearest-skill selector with error diffusion (as a sigma-delta modulator): it keeps account
+// of the distance it owes the command (what the skills it held fell short of it) and chooses the
+// skill whose hold leaves the least owed, so that the skills it alternates between average the
+// command where a single skill would miss it: 0.5 m/s forward between skills at 0.36 and 0.75, or
+// a sideways walk's backward drift cancelled by a forward one. With nothing owed it is the
+// nearest-skill choice. It counts on the descriptors, not the measured motion, so a skill's
+// ramp-up after a switch is not wound into it.
+class TimeSharingSelector {
+ public:
+  // What is owed is capped per axis (m, and rad for the yaw), so that a command no mix of skills
+  // meets (outside their velocities' hull) does not wind it up without bound.
+  static constexpr double kMaxOwed = 1.0;
+  // What is owed is owed to a command: one that differs from it by more than this (m/s, the yaw
+  // rate weighted as the nearest-skill distance weighs it) starts afresh.
+  static constexpr double kNewCommand = 0.1;
+
+  explicit TimeSharingSelector(const SkillLibrary& library) : nearest_(library) {}
+
+  // The skill to hold for the next `seconds` under `command` (vx, vy, wz), as nearest_.Clip clips it.
+  int Choose(const double* command, double seconds);
+  // Forgets what is owed (a new task).
+  void Reset() { owed_to_.reset(); }
+  const NearestSkillSelector& nearest() const { return nearest_; }
+
+ private:
+  NearestSkillSelector nearest_;
+  Eigen::Vector3d owed_ = Eigen::Vector3d::Zero();  // m, m, rad
+  std::optional<Eigen::Vector3d> owed_to_;         // the command it is owed to
 };
 
 // The tightest arc the library's dependable skills (those NearestSkillSelector chooses from) walk

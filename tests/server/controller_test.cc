@@ -254,7 +254,7 @@ TEST_F(ControllerTest, TheControlTickAllocatesNothing) {
 // The selector runs the skills each tick: the published skill is the selector's choice, and the
 // task ends after its duration with the robot standing.
 TEST_F(ControllerTest, VelocityModeRunsTheSelectorsSkillsForItsDuration) {
-  ASSERT_TRUE(controller_.has_selector());
+  ASSERT_TRUE(controller_.selector());
   StandUp();
   // Standing still: what the shipped selector does calmly. Walking backward it picks a new skill
   // ~40 times a second, and within 2 s a calf exceeds 21 rad/s and the supervisor stops it

@@ -246,7 +246,7 @@ TEST_F(RequestHandlerTest, NavigateNeedsANavigatorAndAMapThatParses) {
   EXPECT_THAT(ok.message, HasSubstr("planning"));
 }
 
-TEST(RequestHandlerSelector, WithoutALearnedSelectorTheNearestSkillOneServesUnlessConfiguredOut) {
+TEST(RequestHandlerSelector, WithoutALearnedSelectorTheTimeSharingOneServesUnlessConfiguredOut) {
   // The shipped library with its selector taken out.
   SafeTensors file = ReadSafeTensors(ResolveDataPath("models/a1_flsd.safetensors"));
   for (auto it = file.tensors.begin(); it != file.tensors.end();) {
@@ -265,8 +265,10 @@ TEST(RequestHandlerSelector, WithoutALearnedSelectorTheNearestSkillOneServesUnle
     // "learned" over a library without one: the velocity calls say why they are unavailable.
     ServerConfig config;
     config.selector = "learned";
+    config.navigation.selector = "learned";
     Controller controller(backend, library, config);
-    EXPECT_FALSE(controller.has_selector());
+    EXPECT_FALSE(controller.selector());
+    EXPECT_FALSE(controller.selector(true));
     RequestHandler handler(controller, config);
     ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, ReplyStatus::kOk);
     TestRequest vel("a", 2, "track_velocity");
@@ -274,13 +276,17 @@ TEST(RequestHandlerSelector, WithoutALearnedSelectorTheNearestSkillOneServesUnle
     const ReplyContent r = handler.Handle(vel.msg, 0.0, 0).value_or(ReplyContent{});
     EXPECT_EQ(r.status, ReplyStatus::kNotAvailable);
     EXPECT_THAT(r.message, HasSubstr("has no skill selector"));
+    EXPECT_THAT(r.message, HasSubstr("the server's selector is 'learned'"));
     EXPECT_THROW(HierarchicalPolicy{library}, InputError);
   }
-  // "auto", the default: the nearest-skill selector, its commands clipped to what the skills do.
+  // "auto", the default: the time-sharing selector for track_velocity, its commands clipped to
+  // what the skills do, and the nearest-skill one for navigate.
   ServerConfig config;
   Controller controller(backend, library, config);
-  ASSERT_TRUE(controller.has_selector());
-  EXPECT_EQ(controller.selector()->kind(), SelectorKind::kNearestSkill);
+  ASSERT_TRUE(controller.selector());
+  EXPECT_EQ(controller.selector()->kind(), SelectorKind::kTimeSharing);
+  ASSERT_TRUE(controller.selector(true));
+  EXPECT_EQ(controller.selector(true)->kind(), SelectorKind::kNearestSkill);
   RequestHandler handler(controller, config);
   ASSERT_EQ(handler.Handle(TestRequest("a", 1, "acquire_control").msg, 0.0, 0)->status, ReplyStatus::kOk);
   TestRequest vel("a", 2, "track_velocity");
@@ -289,16 +295,20 @@ TEST(RequestHandlerSelector, WithoutALearnedSelectorTheNearestSkillOneServesUnle
   const ReplyContent r = handler.Handle(vel.msg, 0.0, 0).value_or(ReplyContent{});
   EXPECT_EQ(r.status, ReplyStatus::kOk) << r.message;
   EXPECT_THAT(r.message, HasSubstr("vx clipped to"));
-  EXPECT_THAT(r.message, HasSubstr("the edge of the nearest_skill selector's range"));
+  EXPECT_THAT(r.message, HasSubstr("the edge of the time_sharing selector's range"));
   std::remove(path.c_str());
 }
 
 TEST(RequestHandlerSelector, AnUnknownSelectorInTheServerConfigIsNamed) {
   const testutil::TempFile file(".yaml", "selector: oracle\n");
   EXPECT_THAT(testutil::InputErrorMessage([&] { LoadServerConfig(file.path()); }),
-              HasSubstr(file.path() + ": selector: selector 'oracle': expected learned or nearest_skill or auto"));
+              HasSubstr(file.path() + ": selector: selector 'oracle': expected learned or nearest_skill or time_sharing or auto"));
   const testutil::TempFile nearest(".yaml", "selector: nearest_skill\n");
   EXPECT_EQ(LoadServerConfig(nearest.path()).selector, "nearest_skill");
+  const testutil::TempFile navigation(".yaml", "navigation:\n  selector: time-sharing\n");
+  EXPECT_THAT(testutil::InputErrorMessage([&] { LoadServerConfig(navigation.path()); }),
+              HasSubstr(navigation.path() + ": navigation.selector: selector 'time-sharing': expected learned or "
+                                            "nearest_skill or time_sharing or auto"));
 }
 
 TEST_F(RequestHandlerTest, UnknownCallsAndBadClientIdsAreAnswered) {

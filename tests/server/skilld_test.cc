@@ -75,7 +75,7 @@ TEST_F(SkilldTest, TracksAVelocityCommandWithTheSelector) {
   const CallResult r = client->Call("track_velocity", args);
   ASSERT_TRUE(r.ok()) << r.Describe();
   const SkillLibrary library = SkillLibrary::Load(FLSD_SOURCE_DIR "/models/a1_flsd.safetensors");
-  const HierarchicalPolicy served(library, library.selector() ? SelectorKind::kLearned : SelectorKind::kNearestSkill);
+  const HierarchicalPolicy served(library, library.selector() ? SelectorKind::kLearned : SelectorKind::kTimeSharing);
   EXPECT_THAT(r.message, HasSubstr(testutil::ClippedTo("vx", served.CommandRange()[1][0])));
   const auto walking = client->WaitForState(
       [](const StateSample& s) { return s.msg.mode == flsd_msgs_MODE_VELOCITY && s.msg.skill >= 0; }, 10s);

@@ -123,8 +123,9 @@ nlohmann::json CompareSelectors(const SkillLibrary& library, double seconds, dou
   out["learned"] = library.selector()
                        ? TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, SelectorKind::kLearned))
                        : nlohmann::json();
-  out["nearest_skill"] =
-      TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, SelectorKind::kNearestSkill));
+  for (SelectorKind analytic : {SelectorKind::kNearestSkill, SelectorKind::kTimeSharing}) {
+    out[ToString(analytic)] = TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, analytic));
+  }
   return out;
 }
 

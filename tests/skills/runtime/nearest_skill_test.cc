@@ -1,6 +1,7 @@
-// The nearest-skill selector on a library of known descriptors: it chooses the surviving skill
-// nearest the command (yaw rate weighted), clips commands to what its candidates do, never
-// chooses a skill that fell, and under HierarchicalPolicy holds its choice for 0.5 s.
+// The analytic selectors on a library of known descriptors. The nearest-skill one chooses the
+// surviving skill nearest the command (yaw rate weighted), clips commands to what its candidates
+// do, never chooses a skill that fell, and under HierarchicalPolicy holds its choice for 0.5 s. The
+// time-sharing one alternates skills so that their mean velocity is the command's.
 
 #include "skills/runtime/nearest_skill.h"
 
@@ -140,7 +141,76 @@ TEST(NearestSkillSelector, ServesAHierarchicalPolicyWithoutALearnedSelectorAndHo
   EXPECT_EQ(policy.Act(motion.data(), stand, previous.data(), action.data()), 0);
   EXPECT_EQ(ParseSelectorKind("nearest_skill"), SelectorKind::kNearestSkill);
   EXPECT_THAT(testutil::InputErrorMessage([] { ParseSelectorKind("oracle"); }),
-              HasSubstr("expected learned or nearest_skill"));
+              HasSubstr("expected learned or nearest_skill or time_sharing"));
+  std::remove(path.c_str());
+}
+
+// The mean descriptor velocity of the skills `selector` holds for `decisions` seconds of `command`.
+Eigen::Vector3d MeanOfChoices(TimeSharingSelector& selector, const Eigen::Vector3d& command, int decisions,
+                              const std::vector<Velocity>& velocities, std::vector<int>* chosen = nullptr) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int n = 0; n < decisions; ++n) {
+    const int skill = selector.Choose(command.data(), 1.0);
+    if (chosen) chosen->push_back(skill);
+    sum += Eigen::Vector3d(velocities[skill].vx, velocities[skill].vy, velocities[skill].wz);
+  }
+  return sum / decisions;
+}
+
+TEST(TimeSharingSelector, AlternatesSkillsSoThatTheirMeanVelocityIsTheCommand) {
+  // Forward at 0.36 and 0.75 m/s, a sideways walk that drifts back, a stand, and a 0.5 m/s walk
+  // that fell (never to be chosen).
+  const std::vector<Velocity> velocities = {{0.36, 0, 0}, {0.75, 0, 0}, {-0.3, 0.7, 0}, {0, 0, 0}, {0.5, 0, 0}};
+  const std::string path = WriteLibrary(velocities, {4});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  TimeSharingSelector selector(library);
+  std::vector<int> chosen;
+  // 0.5 m/s forward: the nearest-skill selector's 0.36 m/s walk, mixed with the faster one.
+  EXPECT_EQ(selector.nearest().Choose(Eigen::Vector3d(0.5, 0, 0).data()), 0);
+  Eigen::Vector3d mean = MeanOfChoices(selector, {0.5, 0, 0}, 200, velocities, &chosen);
+  EXPECT_NEAR(mean.x(), 0.5, 0.01);
+  EXPECT_EQ(std::count(chosen.begin(), chosen.end(), 4), 0);
+  EXPECT_GT(std::count(chosen.begin(), chosen.end(), 1), 40);
+  // 0.5 m/s to the left: the sideways walk's drift back cancelled by walking forward.
+  selector.Reset();
+  mean = MeanOfChoices(selector, {0, 0.5, 0}, 200, velocities);
+  EXPECT_NEAR(mean.x(), 0.0, 0.01);
+  EXPECT_NEAR(mean.y(), 0.5, 0.01);
+  // A command no mix of skills meets (faster than any) owes at most kMaxOwed, and a new command
+  // starts afresh: a stand command gets the stand.
+  selector.Reset();
+  MeanOfChoices(selector, {2.0, 0, 0}, 100, velocities);
+  chosen.clear();
+  MeanOfChoices(selector, {0, 0, 0}, 30, velocities, &chosen);
+  EXPECT_EQ(std::count(chosen.begin(), chosen.end(), 3), 30);
+  // A command within kNewCommand of the last keeps what it owes: 0.05 m/s more after a long 0.5
+  // m/s still averages its own command.
+  selector.Reset();
+  MeanOfChoices(selector, {0.5, 0, 0}, 17, velocities);
+  mean = MeanOfChoices(selector, {0.55, 0, 0}, 200, velocities);
+  EXPECT_NEAR(mean.x(), 0.55, 0.01);
+  std::remove(path.c_str());
+}
+
+TEST(TimeSharingSelector, ServesAHierarchicalPolicyThatHoldsEachChoiceASecond) {
+  const std::string path = WriteLibrary({{0.36, 0, 0}, {0.75, 0, 0}}, {});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  HierarchicalPolicy policy(library, SelectorKind::kTimeSharing);
+  std::vector<float> motion(kMotionObsSize, 0.0f), previous(kActionSize, 0.0f), action(kActionSize);
+  const double forward[3] = {0.5, 0, 0};
+  std::vector<int> per_second;
+  for (int t = 0; t < 10 * HierarchicalPolicy::kTimeSharingHoldSteps; ++t) {
+    const int skill = policy.Act(motion.data(), forward, previous.data(), action.data());
+    if (t % HierarchicalPolicy::kTimeSharingHoldSteps == 0) {
+      per_second.push_back(skill);
+    } else {
+      EXPECT_EQ(skill, per_second.back()) << t;
+    }
+  }
+  EXPECT_EQ(per_second.front(), 0);  // nothing owed yet: the nearest skill
+  EXPECT_GE(std::count(per_second.begin(), per_second.end(), 1), 2);
+  EXPECT_EQ(ParseSelectorKind("time_sharing"), SelectorKind::kTimeSharing);
+  EXPECT_STREQ(ToString(SelectorKind::kTimeSharing), "time_sharing");
   std::remove(path.c_str());
 }
 

@@ -99,7 +99,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   };
   auto track = std::make_shared<TrackArgs>();
   CLI::App* track_cmd = app.add_subcommand(
-      "track", "Track eight velocity commands with a library's learned selector and the nearest-skill selector");
+      "track", "Track eight velocity commands with a library's learned selector and the nearest-skill and time-sharing selectors");
   track_cmd->add_option("library", track->library, "Skill library (default: the shipped one)");
   track_cmd->add_option("--seconds", track->seconds, "Seconds per command")->check(CLI::Range(2.5, 600.0));
   out.push_back({track_cmd, [track] {

@@ -176,6 +176,43 @@ TEST(Env, StanceFootSpeedIsZeroStandingAndTheBaseSpeedWhenTheWholeRobotSlides) {
   EXPECT_NEAR(env.StanceFootSpeed(), 1.0, 1e-9);
 }
 
+// How far the feet of the robot, standing in the default pose, creep in 2 s under a horizontal
+// push on the trunk of `share` of its weight (the friction cone, coefficient 1, holds feet up to a
+// share of 1; the stance itself gives way at about 0.2).
+double FootCreepUnderAPush(const std::string& scene, double share) {
+  const MjModelPtr model = LoadMjModel(scene);
+  Env env(*model, DeterministicConfig(), 1);
+  StandStill(env, 100);
+  auto foot = [&](int leg) {
+    const mjtNum* p = env.data().geom_xpos + 3 * env.index().foot_geom[leg];
+    return Eigen::Vector2d(p[0], p[1]);
+  };
+  std::array<Eigen::Vector2d, a1::kNumLegs> start;
+  for (int leg = 0; leg < a1::kNumLegs; ++leg) start[leg] = foot(leg);
+  const int trunk = mj_name2id(&env.model(), mjOBJ_BODY, "trunk");
+  env.data().xfrc_applied[6 * trunk] = share * a1::kTotalMass * kGravity;
+  StandStill(env, 100);
+  double creep = 0.0;
+  for (int leg = 0; leg < a1::kNumLegs; ++leg) creep = std::max(creep, (foot(leg) - start[leg]).norm());
+  return creep;
+}
+
+// MuJoCo's contacts are soft: under the pyramidal cone with impratio 1, loaded feet creep well
+// inside the friction cone. scene_hard_friction.xml is the same robot and floor with the elliptic
+// cone and impratio 10.
+TEST(Env, OnTheHardFrictionSceneLoadedFeetCreepLess) {
+  const MjModelPtr hard = LoadMjModel("robot/a1/scene_hard_friction.xml");
+  EXPECT_EQ(hard->opt.cone, mjCONE_ELLIPTIC);
+  EXPECT_EQ(hard->opt.impratio, 10.0);
+  EXPECT_EQ(hard->nbody, SceneModel().nbody);  // the same robot and floor
+  EXPECT_EQ(hard->ngeom, SceneModel().ngeom);
+  // A tenth of the weight, well inside the friction cone: 43 mm of creep against 7 mm.
+  const double soft = FootCreepUnderAPush("robot/a1/scene.xml", 0.1);
+  const double stiff = FootCreepUnderAPush("robot/a1/scene_hard_friction.xml", 0.1);
+  EXPECT_GT(soft, 0.02);
+  EXPECT_LT(stiff, 0.25 * soft);
+}
+
 TEST(Env, FootContactIsReportedPerLeg) {
   Env env(SceneModel(), DeterministicConfig(), 1);
   ASSERT_NO_FATAL_FAILURE(StandStill(env, 100));

@@ -23,8 +23,8 @@ SelectorKind ParseSelectorKind(const std::string& name);
 
 class HierarchicalPolicy {
  public:
-  // The analytic selectors hold each choice this many control steps (0.5 s), so that a command
-  // that wavers between two skills (a path follower's) does not switch them every tick.
+  // The nearest-skill selector holds each choice this many control steps (0.5 s), so that a
+  // command that wavers between two skills (a path follower's) does not switch them every tick.
   static constexpr int kNearestSkillHoldSteps = 25;
   // The time-sharing selector holds each skill 1 s: every switch costs a ramp-up, and switching
   // every 0.5 s fell in the turn-in-place commands of `flsd track`, where a longer hold did not.

@@ -60,8 +60,8 @@ std::array<double, 3> NearestSkillSelector::Clip(const double* command) const {
 }
 
 double NearestSkillSelector::SquaredDistance(size_t i, const double* command) const {
-  const Eigen::Vector3d weight(1.0, 1.0, kTurnWeight);
-  return (velocity_[i] - Eigen::Vector3d(command[0], command[1], command[2])).cwiseProduct(weight).squaredNorm();
+  const double distance = Distance(velocity_[i], Eigen::Vector3d(command[0], command[1], command[2]));
+  return distance * distance;
 }
 
 size_t NearestSkillSelector::NearestCandidate(const double* command) const {
@@ -86,8 +86,7 @@ void NearestSkillSelector::Prior(const double* command, double temperature, floa
 
 int TimeSharingSelector::Choose(const double* command, double seconds) {
   const Eigen::Vector3d wanted(command[0], command[1], command[2]);
-  const Eigen::Vector3d weight(1.0, 1.0, NearestSkillSelector::kTurnWeight);
-  if (!owed_to_ || (wanted - *owed_to_).cwiseProduct(weight).norm() > kNewCommand) {
+  if (!owed_to_ || NearestSkillSelector::Distance(wanted, *owed_to_) > kNewCommand) {
     owed_.setZero();
     owed_to_ = wanted;
   }

@@ -19,6 +19,10 @@ class NearestSkillSelector {
   // m/s that a yaw-rate difference of 1 rad/s counts as. Users (and the tracking evaluation)
   // ask for walks of 0.5 m/s and turns of 1 rad/s: with 0.5, missing either counts the same.
   static constexpr double kTurnWeight = 0.5;
+  // |a - b| for velocities (vx, vy, wz), the yaw rate weighted by kTurnWeight.
+  static double Distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - b).cwiseProduct(Eigen::Vector3d(1.0, 1.0, kTurnWeight)).norm();
+  }
 
   // Chooses among the skills that survived their evaluation (and the randomised one, where the
   // library records it). Throws InputError if no skill did.

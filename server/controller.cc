@@ -216,14 +216,16 @@ void Controller::Apply(const ControlRequest& request) {
       pending_ticks_ = std::max(1, Ticks(request.duration));
       break;
     }
-    case ControlRequest::Kind::kVelocityUpdate:
-      if (!Hierarchy(mode_) || task_.state != TaskState::kRunning || task_.request_id != request.request_id ||
+    case ControlRequest::Kind::kVelocityUpdate: {
+      const HierarchicalPolicy* hierarchy = Hierarchy(mode_);
+      if (!hierarchy || task_.state != TaskState::kRunning || task_.request_id != request.request_id ||
           task_.client_id != request.client_id) {
         return;  // that task has ended
       }
-      velocity_command_ = Hierarchy(mode_)->Clip(request.velocity.data());
+      velocity_command_ = hierarchy->Clip(request.velocity.data());
       task_.message = request.reason;
       break;
+    }
     case ControlRequest::Kind::kStop:
       if (!StopApplies(request)) return;
       if (task_.state == TaskState::kRunning) EndTask(request.stop_state, request.reason.data());

@@ -60,7 +60,7 @@ EnvConfig TrainingEnvOf(const SkillLibrary& library);
 EnvConfig ServedEnvConfig(const SkillLibrary& library, const EnvConfig& env, int steps);
 
 // `flsd track`: the eight commands with the library's learned selector (where it has one) and
-// with the nearest-skill selector, side by side.
+// with the nearest-skill and time-sharing selectors, side by side.
 nlohmann::json CompareSelectors(const SkillLibrary& library, double seconds, double settle_seconds, uint64_t seed);
 
 }  // namespace flsd

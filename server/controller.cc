@@ -19,7 +19,7 @@ constexpr a1::JointArray<double> kLyingPose = {-0.45, 1.1, -2.6, 0.45, 1.1, -2.6
 // The selector `selector` names, or none: "learned" over a library without a selector, or "auto"
 // over one without a selector or a surviving skill, leaves the calls it serves unavailable. "auto"
 // without a learned selector is `analytic`.
-std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const std::string& selector,
+std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const char* key, const std::string& selector,
                                                 SelectorKind analytic) {
   const bool learned = selector == "learned" || (selector == "auto" && library.selector());
   if (learned) {
@@ -32,7 +32,11 @@ std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, con
       return std::nullopt;
     }
   }
-  return std::optional<HierarchicalPolicy>(std::in_place, library, ParseSelectorKind(selector));
+  try {
+    return std::optional<HierarchicalPolicy>(std::in_place, library, ParseSelectorKind(selector));
+  } catch (const InputError& e) {
+    throw InputError(std::string("server config ") + key + ": " + e.what());
+  }
 }
 
 }  // namespace
@@ -43,8 +47,8 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       config_(config),
       supervisor_(config.safety),
       runner_(library),
-      velocity_selector_(MakeHierarchy(library, config.selector, SelectorKind::kTimeSharing)),
-      navigation_selector_(MakeHierarchy(library, config.navigation.selector, SelectorKind::kNearestSkill)),
+      velocity_selector_(MakeHierarchy(library, "selector", config.selector, SelectorKind::kTimeSharing)),
+      navigation_selector_(MakeHierarchy(library, "navigation.selector", config.navigation.selector, SelectorKind::kNearestSkill)),
       target_filter_(library.action_filter_hz(), library.action_filter_order()) {
   state_ = backend_.Read();
   Publish();
@@ -205,7 +209,7 @@ void Controller::Apply(const ControlRequest& request) {
       }
       velocity_command_ = hierarchy->Clip(request.velocity.data());
       if (walking) {  // already under a selector: change the command without stopping
-        if (Hierarchy(mode_) != hierarchy) hierarchy->Reset();
+        hierarchy->Reset();  // a new task: neither the last one's held skill nor its account carries over
         mode_ = mode;
         task_ticks_left_ = std::max(1, Ticks(request.duration));
         return;
@@ -217,7 +221,8 @@ void Controller::Apply(const ControlRequest& request) {
       break;
     }
     case ControlRequest::Kind::kVelocityUpdate: {
-      const HierarchicalPolicy* hierarchy = Hierarchy(mode_);
+      // While the robot stands up for the task, the task's mode is the pending one.
+      const HierarchicalPolicy* hierarchy = Hierarchy(mode_ == Mode::kStand ? pending_mode_ : mode_);
       if (!hierarchy || task_.state != TaskState::kRunning || task_.request_id != request.request_id ||
           task_.client_id != request.client_id) {
         return;  // that task has ended

@@ -60,8 +60,7 @@ std::array<double, 3> NearestSkillSelector::Clip(const double* command) const {
 }
 
 double NearestSkillSelector::SquaredDistance(size_t i, const double* command) const {
-  const double distance = Distance(velocity_[i], Eigen::Vector3d(command[0], command[1], command[2]));
-  return distance * distance;
+  return SquaredDistance(velocity_[i], Eigen::Vector3d(command[0], command[1], command[2]));
 }
 
 size_t NearestSkillSelector::NearestCandidate(const double* command) const {

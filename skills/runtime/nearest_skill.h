@@ -1,7 +1,9 @@
 #pragma once
-// The analytic skill selector: the skill whose measured mean velocity (its descriptor in the
-// library) is nearest the command. It needs no training, so it is the baseline any learned
-// selector must beat, and what skilld can serve for a library that ships no learned selector.
+// The analytic skill selectors, which need no training. NearestSkillSelector picks the skill whose
+// measured mean velocity (its descriptor in the library) is nearest the command: the baseline any
+// learned selector must beat. TimeSharingSelector alternates skills so that their velocities
+// average the command (error diffusion): what skilld serves a library that ships no learned
+// selector.
 
 #include <Eigen/Core>
 
@@ -19,10 +21,11 @@ class NearestSkillSelector {
   // m/s that a yaw-rate difference of 1 rad/s counts as. Users (and the tracking evaluation)
   // ask for walks of 0.5 m/s and turns of 1 rad/s: with 0.5, missing either counts the same.
   static constexpr double kTurnWeight = 0.5;
-  // |a - b| for velocities (vx, vy, wz), the yaw rate weighted by kTurnWeight.
-  static double Distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return (a - b).cwiseProduct(Eigen::Vector3d(1.0, 1.0, kTurnWeight)).norm();
+  // |a - b|^2 for velocities (vx, vy, wz), the yaw rate weighted by kTurnWeight.
+  static double SquaredDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - b).cwiseProduct(Eigen::Vector3d(1.0, 1.0, kTurnWeight)).squaredNorm();
   }
+  static double Distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::sqrt(SquaredDistance(a, b)); }
 
   // Chooses among the skills that survived their evaluation (and the randomised one, where the
   // library records it). Throws InputError if no skill did.

@@ -12,11 +12,9 @@
 #include <condition_variable>
 #include <mutex>
 #include <cstdio>
-#include <iterator>
 #include <string>
 
 #include "core/check.h"
-#include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
 #include "tests/server/server_fixture.h"
 
@@ -247,17 +245,8 @@ TEST_F(RequestHandlerTest, NavigateNeedsANavigatorAndAMapThatParses) {
 }
 
 TEST(RequestHandlerSelector, WithoutALearnedSelectorTheTimeSharingOneServesUnlessConfiguredOut) {
-  // The shipped library with its selector taken out.
-  SafeTensors file = ReadSafeTensors(ResolveDataPath("models/a1_flsd.safetensors"));
-  for (auto it = file.tensors.begin(); it != file.tensors.end();) {
-    it = it->first.rfind("selector.", 0) == 0 ? file.tensors.erase(it) : std::next(it);
-  }
-  nlohmann::json metadata = nlohmann::json::parse(file.metadata["flsd"]);
-  metadata.erase("selector");
-  file.metadata["flsd"] = metadata.dump();
-  const std::string path = testutil::UniqueTempPath("no_selector.safetensors");
-  WriteSafeTensors(path, file);
-  const SkillLibrary library = SkillLibrary::Load(path);
+  // The shipped library ships no learned selector.
+  const SkillLibrary& library = testutil::ShippedLibrary();
   ASSERT_FALSE(library.selector().has_value());
 
   SimBackend backend{SimBackendConfig{}};
@@ -296,7 +285,6 @@ TEST(RequestHandlerSelector, WithoutALearnedSelectorTheTimeSharingOneServesUnles
   EXPECT_EQ(r.status, ReplyStatus::kOk) << r.message;
   EXPECT_THAT(r.message, HasSubstr("vx clipped to"));
   EXPECT_THAT(r.message, HasSubstr("the edge of the time_sharing selector's range"));
-  std::remove(path.c_str());
 }
 
 TEST(RequestHandlerSelector, AnUnknownSelectorInTheServerConfigIsNamed) {

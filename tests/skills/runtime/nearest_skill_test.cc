@@ -176,10 +176,16 @@ TEST(TimeSharingSelector, AlternatesSkillsSoThatTheirMeanVelocityIsTheCommand) {
   mean = MeanOfChoices(selector, {0, 0.5, 0}, 200, velocities);
   EXPECT_NEAR(mean.x(), 0.0, 0.01);
   EXPECT_NEAR(mean.y(), 0.5, 0.01);
-  // A command no mix of skills meets (faster than any) owes at most kMaxOwed, and a new command
-  // starts afresh: a stand command gets the stand.
+  // A command no mix of skills meets (0.8 m/s, faster than any) owes at most kMaxOwed: 100 s of it
+  // owe 1 m, not 5, so 0.72 m/s (the same account) pays it back with the 0.75 m/s walk in about 40
+  // s and then needs the 0.36 one; uncapped that would take 170 s.
   selector.Reset();
-  MeanOfChoices(selector, {2.0, 0, 0}, 100, velocities);
+  MeanOfChoices(selector, {0.8, 0, 0}, 100, velocities);
+  chosen.clear();
+  MeanOfChoices(selector, {0.72, 0, 0}, 60, velocities, &chosen);
+  EXPECT_EQ(std::count(chosen.begin(), chosen.begin() + 30, 1), 30);
+  EXPECT_GT(std::count(chosen.begin() + 30, chosen.end(), 0), 0);
+  // A new command starts afresh: a stand command gets the stand.
   chosen.clear();
   MeanOfChoices(selector, {0, 0, 0}, 30, velocities, &chosen);
   EXPECT_EQ(std::count(chosen.begin(), chosen.end(), 3), 30);

@@ -46,6 +46,7 @@ SignedPermutation MotionObservation() {
 
 SignedPermutation PlanarPosition() { return {{0, 1}, {1, -1}}; }
 SignedPermutation VelocityCommand() { return Vector(1, -1, -1); }
+SignedPermutation PlanarPose() { return Vector(1, -1, -1); }
 
 SkillPairing::SkillPairing(int num_skills, int self_paired) : num_skills_(num_skills) {
   if (self_paired < 0 || self_paired > num_skills || (num_skills - self_paired) % 2 != 0) {

@@ -38,6 +38,8 @@ SignedPermutation MotionObservation();
 SignedPermutation PlanarPosition();
 // A velocity command (vx, vy, wz) -> (vx, -vy, -wz).
 SignedPermutation VelocityCommand();
+// A pose in the horizontal plane (x, y, heading) -> (x, -y, -heading).
+SignedPermutation PlanarPose();
 
 // Which skill is the mirror image of which: skills [0, 2P) form the pairs (k, k + P), and the
 // rest mirror themselves (a self-paired skill must be its own mirror image: it goes straight or

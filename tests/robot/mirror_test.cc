@@ -46,10 +46,14 @@ TEST(Mirror, JointsSwapLeftAndRightAndNegateAbduction) {
   }
 }
 
+TEST(Mirror, APlanarPoseMirrorsItsSidewaysPartAndItsHeading) {
+  EXPECT_EQ(Applied(mirror::PlanarPose(), {1.0f, 2.0f, 0.5f}), (std::vector<float>{1.0f, -2.0f, -0.5f}));
+}
+
 TEST(Mirror, EveryMapIsItsOwnInverse) {
   const mirror::SkillPairing pairing(16, 4);
   for (const mirror::SignedPermutation& p :
-       {mirror::Joints(), mirror::MotionObservation(), mirror::PlanarPosition(), mirror::VelocityCommand(),
+       {mirror::Joints(), mirror::MotionObservation(), mirror::PlanarPosition(), mirror::VelocityCommand(), mirror::PlanarPose(),
         mirror::PolicyObservation(pairing)}) {
     const std::vector<float> x = Ramp(p.size());
     EXPECT_EQ(Applied(p, Applied(p, x)), x);

@@ -18,7 +18,7 @@ torch::Tensor IntrinsicReward(const torch::Tensor& log_probs, const torch::Tenso
 torch::Tensor Blurred(const torch::Tensor& observations, const DiscriminatorConfig& config) {
   if (config.position_noise == 0.0 && config.feature_noise == 0.0) return observations;
   torch::Tensor scale = torch::full({observations.size(1)}, config.feature_noise, observations.options());
-  scale.slice(0, 0, 2).fill_(config.position_noise);
+  scale.slice(0, 0, config.skill_frame_size()).fill_(config.position_noise);
   return observations + torch::randn_like(observations) * scale;
 }
 

@@ -20,6 +20,12 @@ struct DiscriminatorConfig {
   // others earns nothing, travelling further earns more until the skills are clear of one another.
   double position_noise = 0.0;
   double feature_noise = 0.0;
+  // q also holds the heading the robot has turned through since its skill began (rad, unwrapped,
+  // blurred as the position is): turning in place then goes somewhere as walking does, and a left
+  // turn is told apart from a right one. The paper's q is the position alone.
+  bool heading = false;
+  // Columns of q: x, y and, with heading, the heading turned.
+  int skill_frame_size() const { return heading ? 3 : 2; }
   template <class V>
   void Visit(V& v) {
     v("hidden", hidden, Bounds<int>{1, 4096});
@@ -28,6 +34,7 @@ struct DiscriminatorConfig {
     v("minibatch_size", minibatch_size, Bounds<int>{1, 1 << 20});
     v("position_noise", position_noise, Bounds<double>{0.0, 100.0});
     v("feature_noise", feature_noise, Bounds<double>{0.0, 100.0});
+    v("heading", heading);
   }
 };
 

@@ -26,8 +26,14 @@ constexpr int kNormalizedObs = kMotionObsSize + kActionSize;
 // than 4096, whose activations fall out of cache).
 constexpr int64_t kRewardChunk = 512;
 
-int DiscriminatorInputs(Method method, const PaeConfig& pae) {
-  return 2 + (method == Method::kFlsd ? 2 * pae.latent_channels : kMotionObsSize);
+int DiscriminatorInputs(Method method, const TrainConfig& config) {
+  return config.discriminator.skill_frame_size() +
+         (method == Method::kFlsd ? 2 * config.pae.latent_channels : kMotionObsSize);
+}
+
+// The mirror image of q: (x, y) or (x, y, heading turned).
+mirror::SignedPermutation MirroredSkillFrame(const DiscriminatorConfig& config) {
+  return config.heading ? mirror::PlanarPose() : mirror::PlanarPosition();
 }
 
 // Checks the config, seeds libtorch's generator and passes the config on: used to initialise the
@@ -80,11 +86,11 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
       num_envs_(LocalEnvCount(config.num_envs, comm)),
       steps_(config.steps_per_env),
       policy_obs_size_(PolicyObservationSize(config.num_skills)),
-      critic_obs_size_(PolicyObservationSize(config.num_skills) + 2),
+      critic_obs_size_(PolicyObservationSize(config.num_skills) + config.discriminator.skill_frame_size()),
       vec_(config.env, num_envs_, config.seed, ResolveThreadCount(config.num_threads), comm.rank() * num_envs_),
       policy_(policy_obs_size_, critic_obs_size_, kActionSize, config.policy),
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
-      discriminator_(DiscriminatorInputs(method_, config.pae), config.num_skills, config.discriminator),
+      discriminator_(DiscriminatorInputs(method_, config), config.num_skills, config.discriminator),
       learner_(policy_.ptr(), kNormalizedObs, config.ppo, config.seed, comm),
       rollout_(learner_.rollout()),
       pairing_(SkillPairingOf(config.num_skills, config.symmetry)),
@@ -100,7 +106,9 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
   episode_length_.assign(n, 0);
   steps_to_switch_.assign(n, 0);
   skill_origin_.assign(n, {0.0, 0.0, 0.0});
-  critic_position_.assign(2 * n, 0.0f);
+  heading_turned_.assign(n, 0.0);
+  last_yaw_.assign(n, 0.0);
+  critic_position_.assign(config.discriminator.skill_frame_size() * n, 0.0f);
   steps_since_switch_.assign(n, config.skill_switch.reward_mask_steps);
   ended_.assign(n, 0);
   ended_length_sum_.assign(n, 0);
@@ -113,6 +121,7 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
     DrawSkill(i);
     history_.emplace_back(config.window);
     history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
+    last_yaw_[i] = vec_.env(i).state().Yaw();
   }
   learner_.AllocateRollout({t, n, policy_obs_size_, critic_obs_size_, kActionSize, 2 * kActionSize});
   const auto f = torch::kFloat32;
@@ -122,7 +131,7 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
   if (config.env.constraints.enabled) violations_ = torch::zeros({t, n, kNumConstraints}, f);
   if (method_ == Method::kFlsd) windows_ = torch::zeros({t, n, kMotionObsSize, config.window}, f);
   next_motion_ = torch::zeros({t, n, kMotionObsSize}, f);
-  next_position_ = torch::zeros({t, n, 2}, f);
+  next_position_ = torch::zeros({t, n, config.discriminator.skill_frame_size()}, f);
   skills_ = torch::zeros({t, n}, torch::kLong);
   penalties_ = torch::zeros({t, n}, f);
   for (int i = 0; i < n; ++i) {
@@ -156,12 +165,19 @@ void Trainer::SkillFramePosition(int i, const float* world, float* out) const {
   const double dx = world[0] - x0, dy = world[1] - y0, c = std::cos(yaw0), s = std::sin(yaw0);
   out[0] = static_cast<float>(c * dx + s * dy);
   out[1] = static_cast<float>(-s * dx + c * dy);
+  if (config_.discriminator.heading) out[2] = static_cast<float>(heading_turned_[i]);
+}
+
+void Trainer::TurnHeading(int i, double yaw) {
+  heading_turned_[i] += std::remainder(yaw - last_yaw_[i], 2.0 * M_PI);
+  last_yaw_[i] = yaw;
 }
 
 torch::Tensor Trainer::CriticObservations(const torch::Tensor& obs) {
-  for (int i = 0; i < num_envs_; ++i) SkillFramePosition(i, vec_.position() + 3 * i, &critic_position_[2 * i]);
-  const torch::Tensor xy = torch::from_blob(critic_position_.data(), {num_envs_, 2}) * config_.critic_position_scale;
-  return torch::cat({obs, xy}, 1);
+  const int size = config_.discriminator.skill_frame_size();
+  for (int i = 0; i < num_envs_; ++i) SkillFramePosition(i, vec_.position() + 3 * i, &critic_position_[size * i]);
+  const torch::Tensor q = torch::from_blob(critic_position_.data(), {num_envs_, size}) * config_.critic_position_scale;
+  return torch::cat({obs, q}, 1);
 }
 
 void Trainer::CollectRollout(IterationStats& stats) {
@@ -215,6 +231,7 @@ void Trainer::CollectRollout(IterationStats& stats) {
 void Trainer::AfterStep(int t, const float* actions) {
   const int n = num_envs_;
   const int window_floats = kMotionObsSize * config_.window;
+  const int q_size = config_.discriminator.skill_frame_size();
   float* windows = method_ == Method::kFlsd ? windows_[t].data_ptr<float>() : nullptr;
   float* next_motion = next_motion_[t].data_ptr<float>();
   float* next_position = next_position_[t].data_ptr<float>();
@@ -232,7 +249,8 @@ void Trainer::AfterStep(int t, const float* actions) {
       const float* position = (done ? vec_.terminal_position() : vec_.position()) + i * 3;
       if (windows != nullptr) history_[i].WriteWindow(next, windows + i * window_floats);
       std::copy(next, next + kMotionObsSize, next_motion + i * kMotionObsSize);
-      SkillFramePosition(i, position, next_position + 2 * i);
+      TurnHeading(i, vec_.stepped_state(i).Yaw());
+      SkillFramePosition(i, position, next_position + q_size * i);
       dones[i] = done ? 1.0f : 0.0f;
       if (violations != nullptr) {
         const float* v = vec_.violations() + i * kNumConstraints;
@@ -263,6 +281,8 @@ void Trainer::AfterStep(int t, const float* actions) {
         DrawSkill(i);
         steps_since_switch_[i] = config_.skill_switch.reward_mask_steps;
         skill_origin_[i] = {0.0, 0.0, 0.0};  // every episode starts at the origin facing +x
+        heading_turned_[i] = 0.0;
+        last_yaw_[i] = vec_.env(i).state().Yaw();
         std::fill(previous, previous + kActionSize, 0.0f);
         history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
       } else {
@@ -277,6 +297,7 @@ void Trainer::AfterStep(int t, const float* actions) {
             // The new skill's q starts from where, and the way, the robot now is.
             const RobotState& s = vec_.env(i).state();
             skill_origin_[i] = {s.base_position.x(), s.base_position.y(), s.Yaw()};
+            heading_turned_[i] = 0.0;
             steps_since_switch_[i] = 0;
           }
         }
@@ -298,7 +319,7 @@ torch::Tensor Trainer::Manifold(const torch::Tensor& windows) {
 void Trainer::ComputeRewards(IterationStats& stats) {
   torch::NoGradGuard no_grad;
   const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
-  const torch::Tensor positions = next_position_.view({count, 2});
+  const torch::Tensor positions = next_position_.view({count, config_.discriminator.skill_frame_size()});
   // Eq. 13: FLSD's o^d = [q, P], P the phase manifold of the window ending at t + 1; DIAYN's
   // o^d = [q, o^m].
   const torch::Tensor features = method_ == Method::kFlsd
@@ -349,7 +370,7 @@ void Trainer::DiscriminatorSamples(const torch::Tensor& observations, const torc
   if (!config_.symmetry.enabled) return;
   // The mirror image of skill k's sample is a sample of k's pair.
   const torch::Tensor mirrored =
-      torch::cat({MirrorAlong(mirror::PlanarPosition(), positions, 1), MirroredFeatures(count)}, 1);
+      torch::cat({MirrorAlong(MirroredSkillFrame(config_.discriminator), positions, 1), MirroredFeatures(count)}, 1);
   discriminator_obs_ = torch::cat({discriminator_obs_, mirrored.index_select(0, kept)}, 0);
   discriminator_labels_ =
       torch::cat({discriminator_labels_, PairIndex(pairing_).index_select(0, skills).index_select(0, kept)}, 0);
@@ -362,7 +383,7 @@ MirroredSamples Trainer::MirroredRollout() const {
   const torch::Tensor raw = raw_rollout_obs_.view({count, policy_obs_size_});
   m.obs = NormalizeLeadingColumns(learner_.normalizer(), MirrorAlong(mirror::PolicyObservation(pairing_), raw, 1));
   const torch::Tensor position = rollout_.critic_obs.view({count, critic_obs_size_}).slice(1, policy_obs_size_);
-  m.critic_obs = torch::cat({m.obs, MirrorAlong(mirror::PlanarPosition(), position, 1)}, 1);
+  m.critic_obs = torch::cat({m.obs, MirrorAlong(MirroredSkillFrame(config_.discriminator), position, 1)}, 1);
   m.actions = MirrorAlong(mirror::Joints(), rollout_.actions.view({count, kActionSize}), 1);
   return m;
 }
@@ -457,7 +478,7 @@ TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& ch
   torch::serialize::InputArchive archive = OpenCheckpoint(checkpoint);
   TrainedPolicy out;
   const int obs = PolicyObservationSize(config.num_skills);
-  out.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
+  out.policy = ActorCritic(obs, obs + config.discriminator.skill_frame_size(), kActionSize, config.policy);
   out.normalizer = RunningNormalizer(kNormalizedObs);
   try {
     ReadPolicyParts(archive, *out.policy, *out.normalizer, out.iteration, out.env_steps);

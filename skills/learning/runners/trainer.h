@@ -101,11 +101,14 @@ class Trainer {
  private:
   void CollectRollout(IterationStats& stats);
   torch::Tensor PolicyObservations(bool update_normalizer);
-  // The critic's o^p and q_xy, q in the current skill's frame (SkillFramePosition).
+  // The critic's o^p and q, q in the current skill's frame (SkillFramePosition).
   torch::Tensor CriticObservations(const torch::Tensor& obs);
-  // q_xy of env i at world position `world` (3 floats) in the frame the current skill started
-  // in: its position and heading when it took over (the origin and +x for an episode's first).
+  // q of env i at world position `world` (3 floats) in the frame the current skill started in:
+  // its position and heading when it took over (the origin and +x for an episode's first); with
+  // discriminator.heading, then the heading turned since (TurnHeading).
   void SkillFramePosition(int i, const float* world, float* out) const;
+  // Adds env i's turn from its last yaw to `yaw` (the shorter way round) to the heading turned.
+  void TurnHeading(int i, double yaw);
   void AfterStep(int t, const float* actions);
   void ComputeRewards(IterationStats& stats);
   void DrawSkill(int env);
@@ -144,7 +147,8 @@ class Trainer {
   std::vector<int> episode_length_;
   std::vector<int> steps_to_switch_, steps_since_switch_;  // skill switching within an episode
   std::vector<std::array<double, 3>> skill_origin_;  // per env: x, y (m) and yaw (rad) at the switch
-  std::vector<float> critic_position_;               // per env: q_xy in the skill's frame
+  std::vector<double> heading_turned_, last_yaw_;    // per env: rad turned since the switch, last yaw
+  std::vector<float> critic_position_;               // per env: q in the skill's frame
   std::vector<int> ended_, ended_length_sum_, ended_falls_;
 
   // The rollout's other parts, [T, N, ...].
@@ -154,7 +158,7 @@ class Trainer {
   torch::Tensor violations_;     // [T, N, kNumConstraints] (constraints as terminations)
   torch::Tensor windows_;        // [T, N, 33, H] o^H_{t+1} (FLSD)
   torch::Tensor next_motion_;    // [T, N, 33] o^m_{t+1}
-  torch::Tensor next_position_;  // [T, N, 2] q_xy at t+1
+  torch::Tensor next_position_;  // [T, N, 2 or 3] q at t+1
   torch::Tensor skills_;         // [T, N] int64
   torch::Tensor penalties_;      // [T, N] smoothness penalties (RegularizationConfig), dt-scaled
   torch::Tensor discriminator_obs_;     // [M, o^d], the discriminator's training samples

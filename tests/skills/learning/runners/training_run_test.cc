@@ -459,6 +459,25 @@ TEST_F(TrainingRun, SymmetricIterationsTrainOnMirrorImagesAndCheckpointTheConstr
   EXPECT_EQ(json["bar"]["num_skills"], 4);
 }
 
+// With discriminator.heading, q gains the heading turned since the skill began: the
+// discriminator and the critic read one more input, and a checkpoint of one layout does not load
+// into the other.
+TEST_F(TrainingRun, TheHeadingTurnedIsAThirdCoordinateOfQ) {
+  TrainConfig config = SymmetricSmokeConfig();
+  config.discriminator.heading = true;
+  Trainer a(config);
+  EXPECT_TRUE(a.RunIteration().finite);
+  EXPECT_TRUE(a.RunIteration().finite);
+  EXPECT_EQ(a.discriminator()->parameters().front().size(1), 3 + 2 * config.pae.latent_channels);
+  EXPECT_EQ(a.policy()->named_parameters()["critic.0.weight"].size(1), PolicyObservationSize(config.num_skills) + 3);
+  a.SaveCheckpoint(Path("heading.pt"));
+  EXPECT_EQ(LoadTrainedPolicy(config, Path("heading.pt")).policy->named_parameters()["critic.0.weight"].size(1),
+            PolicyObservationSize(config.num_skills) + 3);
+  config.discriminator.heading = false;
+  Trainer b(config);
+  EXPECT_THAT(InputErrorMessage([&] { b.LoadCheckpoint(Path("heading.pt")); }), HasSubstr("does not fit"));
+}
+
 TEST(TrainingConfigs, EveryShippedSkillConfigLoads) {
   int loaded = 0;
   for (const auto& entry : fs::directory_iterator(ResolveDataPath("configs"))) {

@@ -207,13 +207,20 @@ void Controller::Apply(const ControlRequest& request) {
         EndTask(TaskState::kSafetyStop, why);
         return;
       }
-      velocity_command_ = hierarchy->Clip(request.velocity.data());
+      const std::array<double, 3> command = hierarchy->Clip(request.velocity.data());
       if (walking) {  // already under a selector: change the command without stopping
-        hierarchy->Reset();  // a new task: neither the last one's held skill nor its account carries over
+        // A client may stream one command as a run of tasks: it keeps the held skill and the
+        // time-sharing account. Another command (or mode) is chosen for at once.
+        const Eigen::Vector3d before(velocity_command_.data()), after(command.data());
+        if (Hierarchy(mode_) != hierarchy || NearestSkillSelector::Distance(before, after) > TimeSharingSelector::kNewCommand) {
+          hierarchy->Reset();
+        }
+        velocity_command_ = command;
         mode_ = mode;
         task_ticks_left_ = std::max(1, Ticks(request.duration));
         return;
       }
+      velocity_command_ = command;
       recoveries_ = 0;
       EnterStand();
       pending_mode_ = mode;

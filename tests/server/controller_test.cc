@@ -277,7 +277,7 @@ TEST_F(ControllerTest, VelocityModeRunsTheSelectorsSkillsForItsDuration) {
   EXPECT_EQ(controller_.status().mode, Mode::kStand);
 }
 
-// A new velocity task while walking chooses its skill at once (the last task's 1 s hold and the
+// A new velocity task for another command chooses its skill at once (the last task's 1 s hold and the
 // time-sharing account do not carry over), and a command update sent while the robot still stands
 // up for its task is applied, not dropped.
 TEST_F(ControllerTest, ANewVelocityTaskChoosesAfreshAndUpdatesDuringTheStandUpApply) {

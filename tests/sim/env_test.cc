@@ -183,6 +183,7 @@ double FootCreepUnderAPush(const std::string& scene, double share) {
   const MjModelPtr model = LoadMjModel(scene);
   Env env(*model, DeterministicConfig(), 1);
   StandStill(env, 100);
+  if (::testing::Test::HasFatalFailure()) return NAN;  // fell: no creep to measure
   auto foot = [&](int leg) {
     const mjtNum* p = env.data().geom_xpos + 3 * env.index().foot_geom[leg];
     return Eigen::Vector2d(p[0], p[1]);
@@ -192,6 +193,7 @@ double FootCreepUnderAPush(const std::string& scene, double share) {
   const int trunk = mj_name2id(&env.model(), mjOBJ_BODY, "trunk");
   env.data().xfrc_applied[6 * trunk] = share * a1::kTotalMass * kGravity;
   StandStill(env, 100);
+  if (::testing::Test::HasFatalFailure()) return NAN;
   double creep = 0.0;
   for (int leg = 0; leg < a1::kNumLegs; ++leg) creep = std::max(creep, (foot(leg) - start[leg]).norm());
   return creep;

@@ -19,8 +19,8 @@ constexpr a1::JointArray<double> kLyingPose = {-0.45, 1.1, -2.6, 0.45, 1.1, -2.6
 // The selector `selector` names, or none: "learned" over a library without a selector, or "auto"
 // over one without a selector or a surviving skill, leaves the calls it serves unavailable. "auto"
 // without a learned selector is `analytic`.
-std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const char* key, const std::string& selector,
-                                                SelectorKind analytic) {
+std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const char* key,
+                                                const std::string& selector, SelectorKind analytic) {
   const bool learned = selector == "learned" || (selector == "auto" && library.selector());
   if (learned) {
     return library.selector() ? std::optional<HierarchicalPolicy>(std::in_place, library) : std::nullopt;
@@ -48,7 +48,8 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       supervisor_(config.safety),
       runner_(library),
       velocity_selector_(MakeHierarchy(library, "selector", config.selector, SelectorKind::kTimeSharing)),
-      navigation_selector_(MakeHierarchy(library, "navigation.selector", config.navigation.selector, SelectorKind::kNearestSkill)),
+      navigation_selector_(
+          MakeHierarchy(library, "navigation.selector", config.navigation.selector, SelectorKind::kNearestSkill)),
       target_filter_(library.action_filter_hz(), library.action_filter_order()) {
   state_ = backend_.Read();
   Publish();
@@ -212,7 +213,8 @@ void Controller::Apply(const ControlRequest& request) {
         // A client may stream one command as a run of tasks: it keeps the held skill and the
         // time-sharing account. Another command (or mode) is chosen for at once.
         const Eigen::Vector3d before(velocity_command_.data()), after(command.data());
-        if (Hierarchy(mode_) != hierarchy || NearestSkillSelector::Distance(before, after) > TimeSharingSelector::kNewCommand) {
+        if (Hierarchy(mode_) != hierarchy ||
+            NearestSkillSelector::Distance(before, after) > TimeSharingSelector::kNewCommand) {
           hierarchy->Reset();
         }
         velocity_command_ = command;

@@ -25,7 +25,9 @@ class NearestSkillSelector {
   static double SquaredDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return (a - b).cwiseProduct(Eigen::Vector3d(1.0, 1.0, kTurnWeight)).squaredNorm();
   }
-  static double Distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::sqrt(SquaredDistance(a, b)); }
+  static double Distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::sqrt(SquaredDistance(a, b));
+  }
 
   // Chooses among the skills that survived their evaluation (and the randomised one, where the
   // library records it). Throws InputError if no skill did.

@@ -53,8 +53,8 @@ TEST(Mirror, APlanarPoseMirrorsItsSidewaysPartAndItsHeading) {
 TEST(Mirror, EveryMapIsItsOwnInverse) {
   const mirror::SkillPairing pairing(16, 4);
   for (const mirror::SignedPermutation& p :
-       {mirror::Joints(), mirror::MotionObservation(), mirror::PlanarPosition(), mirror::VelocityCommand(), mirror::PlanarPose(),
-        mirror::PolicyObservation(pairing)}) {
+       {mirror::Joints(), mirror::MotionObservation(), mirror::PlanarPosition(), mirror::VelocityCommand(),
+        mirror::PlanarPose(), mirror::PolicyObservation(pairing)}) {
     const std::vector<float> x = Ramp(p.size());
     EXPECT_EQ(Applied(p, Applied(p, x)), x);
     EXPECT_NE(Applied(p, x), x);

@@ -69,14 +69,14 @@ TEST(LibraryBar, EachFailureKeepsItUnmet) {
 
 // From the shipped library's descriptors: forward is 7 (0.875 m/s, a hair faster than its mirror
 // image 2), backward the 2.05 m/s gallop, left and right the diagonal pair 17 and 18 (0.71 and
-// 0.67 m/s sideways, 0.29 back), turning right in place 16 (1.02 rad/s); its left twin turns at
-// 0.93 rad/s, under the bar.
+// 0.67 m/s sideways, 0.29 back), turning left and right in place 15 and 16 (1.30 and 1.36 rad/s).
+// A turn in place must travel at most 0.2 m/s: with 0.05, none does.
 TEST(LibraryBar, DirectionSkillsOfTheShippedLibrary) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
-  EXPECT_EQ(DirectionSkills(library), (std::array<int, kNumDirections>{7, 12, 17, 18, -1, 16}));
-  LibraryBarLimits lower;
-  lower.turn_rate = 0.9;
-  EXPECT_EQ(DirectionSkills(library, lower)[static_cast<int>(Direction::kTurnLeft)], 15);
+  EXPECT_EQ(DirectionSkills(library), (std::array<int, kNumDirections>{7, 12, 17, 18, 15, 16}));
+  LibraryBarLimits tighter;
+  tighter.turn_travel = 0.05;
+  EXPECT_EQ(DirectionSkills(library, tighter)[static_cast<int>(Direction::kTurnLeft)], -1);
 }
 
 }  // namespace

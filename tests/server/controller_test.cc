@@ -278,9 +278,9 @@ TEST_F(ControllerTest, VelocityModeRunsTheSelectorsSkillsForItsDuration) {
 }
 
 // A new velocity task for another command chooses its skill at once (the last task's 1 s hold and the
-// time-sharing account do not carry over), and a command update sent while the robot still stands
-// up for its task is applied, not dropped.
-TEST_F(ControllerTest, ANewVelocityTaskChoosesAfreshAndUpdatesDuringTheStandUpApply) {
+// time-sharing account do not carry over), the same command streamed keeps them, and a command
+// update sent while the robot still stands up for its task is applied, not dropped.
+TEST_F(ControllerTest, ANewCommandChoosesAfreshAStreamedOneKeepsTheAccountAndStandUpUpdatesApply) {
   const auto moves_back = [&] {
     return controller_.library().skills()[controller_.status().skill].mean_linear_velocity.x() < -0.2;
   };
@@ -303,6 +303,19 @@ TEST_F(ControllerTest, ANewVelocityTaskChoosesAfreshAndUpdatesDuringTheStandUpAp
   ASSERT_EQ(controller_.status().mode, Mode::kVelocity);
   EXPECT_GT(controller_.library().skills()[controller_.status().skill].mean_linear_velocity.x(), 0.2)
       << "skill " << controller_.status().skill;
+
+  // The same command sent again every 0.5 s (a streaming client) keeps the time-sharing account,
+  // so the skills still alternate; started afresh each time, the account would pick one skill.
+  std::set<int> chosen;
+  for (int n = 0; n < 12; ++n) {
+    ASSERT_TRUE(controller_.Submit(VelocityRequest(0.5, 0.0, 10.0)));
+    for (int t = 0; t < 25; ++t) {
+      controller_.Tick();
+      ASSERT_EQ(controller_.status().mode, Mode::kVelocity);
+      chosen.insert(controller_.status().skill);
+    }
+  }
+  EXPECT_GE(chosen.size(), 2u);
 }
 
 // The navigator's steering and its ending apply only to the navigation they belong to.

@@ -1,4 +1,4 @@
-// flsd eval, export, export-selector, compose-library, track and transitions.
+// flsd eval, eval-library, export, export-selector, compose-library, track and transitions.
 
 #include <cstdio>
 #include <memory>
@@ -7,6 +7,7 @@
 #include "core/paths.h"
 #include "skills/learning/evaluation/evaluation.h"
 #include "skills/learning/evaluation/export.h"
+#include "skills/learning/evaluation/library_eval.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/learning/evaluation/transition_eval.h"
 #include "skills/learning/runners/training_run.h"
@@ -24,6 +25,24 @@ struct RunArgs {
 
 int PrintJson(const nlohmann::json& result) {
   std::printf("%s\n", result.dump(2).c_str());
+  return 0;
+}
+
+int PrintEvaluationSummary(const std::string& name, const nlohmann::json& result) {
+  const nlohmann::json& bar = result["bar"];
+  std::printf("%s: %d of %d skills survive 500 steps; state coverage %.4f (%ld of %ld cells); "
+              "high-frequency power ratio %.4f\n"
+              "bar %s: %d movers, lowest base %.3f m, fastest stance-foot slip %.3f m/s; skill per direction:",
+              name.c_str(), result["skills_surviving_500_steps"].get<int>(), result["num_skills"].get<int>(),
+              result["state_coverage"]["rate"].get<double>(), result["state_coverage"]["cells_visited"].get<long>(),
+              result["state_coverage"]["cells_total"].get<long>(),
+              result["high_frequency_power_ratio"]["pooled"].get<double>(), bar["met"].get<bool>() ? "met" : "not met",
+              bar["movers"].get<int>(), bar["lowest_mover_height"].get<double>(),
+              bar["fastest_mover_slip"].get<double>());
+  for (const auto& [direction, choice] : bar["directions"].items()) {
+    std::printf(" %s %s", direction.c_str(), choice["skill"].is_null() ? "none" : choice["skill"].dump().c_str());
+  }
+  std::printf("\n");
   return 0;
 }
 
@@ -46,15 +65,28 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   out.push_back({eval_cmd, [eval] {
                    ConfigureTorchThreads(0);
                    const nlohmann::json result = EvaluateRun(eval->run_dir, eval->options, eval->kept_iteration);
-                   if (eval->json) return PrintJson(result);
-                   std::printf("%s: %d of %d skills survive 500 steps; state coverage %.4f (%ld of %ld cells); "
-                               "high-frequency power ratio %.4f\n",
-                               eval->run_dir.c_str(), result["skills_surviving_500_steps"].get<int>(),
-                               result["num_skills"].get<int>(), result["state_coverage"]["rate"].get<double>(),
-                               result["state_coverage"]["cells_visited"].get<long>(),
-                               result["state_coverage"]["cells_total"].get<long>(),
-                               result["high_frequency_power_ratio"]["pooled"].get<double>());
-                   return 0;
+                   return eval->json ? PrintJson(result) : PrintEvaluationSummary(eval->run_dir, result);
+                 }});
+
+  struct EvalLibraryArgs {
+    std::string library = "models/a1_flsd.safetensors";
+    EvaluationOptions options;
+    bool json = false;
+  };
+  auto eval_library = std::make_shared<EvalLibraryArgs>();
+  CLI::App* eval_library_cmd = app.add_subcommand(
+      "eval-library", "Roll out every skill of a library as skilld runs it, compute the paper's metrics and judge the bar");
+  eval_library_cmd->add_option("library", eval_library->library, "Skill library (default: the shipped one)");
+  eval_library_cmd->add_flag("--randomize", eval_library->options.randomize, "Keep the training randomisation on");
+  eval_library_cmd->add_option("--steps", eval_library->options.steps, "Steps per skill (default: the episode length)")
+      ->check(CLI::Range(1, 1000000));
+  eval_library_cmd->add_option("--seed", eval_library->options.seed, "Seed of the start and the randomisation (default: 1)");
+  eval_library_cmd->add_flag("--json", eval_library->json, "Print the whole JSON (default: a summary)");
+  out.push_back({eval_library_cmd, [eval_library] {
+                   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(eval_library->library));
+                   nlohmann::json result = EvaluationJson(EvaluateLibrary(library, eval_library->options));
+                   result["library"] = eval_library->library;
+                   return eval_library->json ? PrintJson(result) : PrintEvaluationSummary(eval_library->library, result);
                  }});
 
   auto export_args = std::make_shared<RunArgs>();

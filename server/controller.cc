@@ -215,7 +215,7 @@ void Controller::Apply(const ControlRequest& request) {
         const Eigen::Vector3d before(velocity_command_.data()), after(command.data());
         if (Hierarchy(mode_) != hierarchy ||
             NearestSkillSelector::Distance(before, after) > TimeSharingSelector::kNewCommand) {
-          hierarchy->Reset();
+          hierarchy->Reset(skill_);
         }
         velocity_command_ = command;
         mode_ = mode;

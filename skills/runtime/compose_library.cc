@@ -191,16 +191,7 @@ nlohmann::json ComposeLibraries(const std::vector<LibraryPart>& parts, const std
   metadata["composed_from"] = origins;
   file.metadata["flsd"] = metadata.dump();
 
-  // Loaded as skilld will read it before it takes the output's name.
-  const std::string unchecked = output + ".unchecked";
-  WriteSafeTensors(unchecked, file);
-  try {
-    SkillLibrary::Load(unchecked);
-  } catch (...) {
-    fs::remove(unchecked);
-    throw;
-  }
-  fs::rename(unchecked, output);
+  WriteCheckedLibrary(output, file);
 
   nlohmann::json dropped = nlohmann::json::array();
   for (size_t i = 0; i < parts.size(); ++i) {

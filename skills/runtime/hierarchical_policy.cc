@@ -60,8 +60,9 @@ std::array<std::array<double, 3>, 2> HierarchicalPolicy::CommandRange() const {
   return {std::array<double, 3>{lo.x(), lo.y(), lo.z()}, std::array<double, 3>{hi.x(), hi.y(), hi.z()}};
 }
 
-void HierarchicalPolicy::Reset() {
+void HierarchicalPolicy::Reset(int running) {
   held_skill_ = -1;
+  running_at_reset_ = running;
   if (time_sharing_) time_sharing_->Reset();
 }
 
@@ -72,6 +73,7 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
                                    : kNearestSkillHoldSteps;
   if (held_skill_ < 0 || ticks_held_ >= hold) {
     const std::array<double, 3> clipped = Clip(command);
+    const int from = held_skill_ >= 0 ? held_skill_ : running_at_reset_;
     if (selector_) {
       BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
       selector_->Run(task_obs_.data(), logits_.data());
@@ -79,11 +81,14 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
         nearest_->Prior(clipped.data(), library_.selector()->nearest_prior_temperature, prior_.data());
         for (size_t k = 0; k < logits_.size(); ++k) logits_[k] += prior_[k];
       }
+      for (const auto& [a, b] : library_.falling_switches()) {
+        if (a == from) logits_[b] = NearestSkillSelector::kExcludedLogit;
+      }
       held_skill_ = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
     } else if (time_sharing_) {
-      held_skill_ = time_sharing_->Choose(clipped.data(), hold * a1::kControlDt);
+      held_skill_ = time_sharing_->Choose(clipped.data(), hold * a1::kControlDt, from);
     } else {
-      held_skill_ = nearest_->Choose(clipped.data());
+      held_skill_ = nearest_->Choose(clipped.data(), from);
     }
     ticks_held_ = 0;
   }

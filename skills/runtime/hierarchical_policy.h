@@ -37,8 +37,9 @@ class HierarchicalPolicy {
   // `command` (vx, vy, wz) is clipped first (Clip). Writes the 12 joint actions and returns the
   // chosen skill.
   int Act(const float* motion_obs, const double* command, const float* previous_action, float* action);
-  // Forgets the held skill: the next Act chooses afresh (a new task).
-  void Reset();
+  // Forgets the held skill: the next Act chooses afresh (a new task), though not a skill the library
+  // records a fall for on a switch from `running` (the skill the robot still runs; -1: none).
+  void Reset(int running = -1);
   // The command as the selector sees it: within the learned selector's trained ranges, or within
   // what the analytic selector's candidates do.
   std::array<double, 3> Clip(const double* command) const;
@@ -61,6 +62,7 @@ class HierarchicalPolicy {
   PolicyRunner policy_;
   std::vector<float> task_obs_, logits_, prior_;
   int held_skill_ = -1, ticks_held_ = 0;
+  int running_at_reset_ = -1;
 };
 
 }  // namespace flsd

@@ -36,7 +36,8 @@ TightestTurn TightestTurnOf(const SkillLibrary& library) {
   return both;
 }
 
-NearestSkillSelector::NearestSkillSelector(const SkillLibrary& library) : num_skills_(library.num_skills()) {
+NearestSkillSelector::NearestSkillSelector(const SkillLibrary& library)
+    : num_skills_(library.num_skills()), falling_switches_(library.falling_switches()) {
   min_.setConstant(std::numeric_limits<double>::infinity());
   max_.setConstant(-std::numeric_limits<double>::infinity());
   for (const SkillDescriptor& d : library.skills()) {
@@ -63,17 +64,21 @@ double NearestSkillSelector::SquaredDistance(size_t i, const double* command) co
   return SquaredDistance(velocity_[i], Eigen::Vector3d(command[0], command[1], command[2]));
 }
 
-size_t NearestSkillSelector::NearestCandidate(const double* command) const {
-  size_t best = 0;
-  double best_distance = std::numeric_limits<double>::infinity();
+size_t NearestSkillSelector::NearestCandidate(const double* command, int from) const {
+  size_t best = 0, best_allowed = candidates_.size();
+  double best_distance = std::numeric_limits<double>::infinity(), best_allowed_distance = best_distance;
   for (size_t i = 0; i < candidates_.size(); ++i) {
     const double distance = SquaredDistance(i, command);
     if (distance < best_distance) {
       best_distance = distance;
       best = i;
     }
+    if (distance < best_allowed_distance && !falling_switches_.count({from, candidates_[i]})) {
+      best_allowed_distance = distance;
+      best_allowed = i;
+    }
   }
-  return best;
+  return best_allowed < candidates_.size() ? best_allowed : best;
 }
 
 void NearestSkillSelector::Prior(const double* command, double temperature, float* logits) const {
@@ -83,7 +88,7 @@ void NearestSkillSelector::Prior(const double* command, double temperature, floa
   }
 }
 
-int TimeSharingSelector::Choose(const double* command, double seconds) {
+int TimeSharingSelector::Choose(const double* command, double seconds, int from) {
   const Eigen::Vector3d wanted(command[0], command[1], command[2]);
   if (!owed_to_ || NearestSkillSelector::Distance(wanted, *owed_to_) > kNewCommand) {
     owed_.setZero();
@@ -91,7 +96,7 @@ int TimeSharingSelector::Choose(const double* command, double seconds) {
   }
   // |owed + (wanted - v) seconds| is least for the v nearest wanted + owed / seconds.
   const Eigen::Vector3d target = wanted + owed_ / seconds;
-  const size_t chosen = nearest_.NearestCandidate(target.data());
+  const size_t chosen = nearest_.NearestCandidate(target.data(), from);
   owed_ = (owed_ + (wanted - nearest_.velocities()[chosen]) * seconds).cwiseMax(-kMaxOwed).cwiseMin(kMaxOwed);
   return nearest_.candidates()[chosen];
 }

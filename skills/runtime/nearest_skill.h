@@ -10,6 +10,8 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "skills/runtime/skill_library.h"
@@ -35,10 +37,12 @@ class NearestSkillSelector {
 
   // The command clipped to what the candidates can do: each axis to their velocities' range.
   std::array<double, 3> Clip(const double* command) const;
-  // The skill nearest `command` (vx, vy, wz), by |v_k - c| with yaw rate weighted by kTurnWeight.
-  int Choose(const double* command) const { return candidates_[NearestCandidate(command)]; }
+  // The skill nearest `command` (vx, vy, wz), by |v_k - c| with yaw rate weighted by kTurnWeight,
+  // among those the library records no fall for on a switch from skill `from` (-1: none runs;
+  // SkillLibrary::SwitchFell). Should every candidate be one, the nearest of all.
+  int Choose(const double* command, int from = -1) const { return candidates_[NearestCandidate(command, from)]; }
   // Its index in candidates() and velocities().
-  size_t NearestCandidate(const double* command) const;
+  size_t NearestCandidate(const double* command, int from = -1) const;
   // A learned selector's prior over all the library's skills (logits[num_skills()]): -d^2 /
   // temperature for a candidate at that distance from `command`, kExcludedLogit for the rest. A
   // selector that adds its network's logits to it starts as a soft nearest-skill selector (its
@@ -61,6 +65,7 @@ class NearestSkillSelector {
   std::vector<int> candidates_;
   std::vector<Eigen::Vector3d> velocity_;  // vx, vy, wz of each candidate
   Eigen::Vector3d min_, max_;
+  std::set<std::pair<int, int>> falling_switches_;  // the library's (SwitchFell)
 };
 
 // The nearest-skill selector with error diffusion (as a sigma-delta modulator): it keeps account
@@ -81,8 +86,9 @@ class TimeSharingSelector {
 
   explicit TimeSharingSelector(const SkillLibrary& library) : nearest_(library) {}
 
-  // The skill to hold for the next `seconds` under `command` (vx, vy, wz), as nearest_.Clip clips it.
-  int Choose(const double* command, double seconds);
+  // The skill to hold for the next `seconds` under `command` (vx, vy, wz), as nearest_.Clip clips
+  // it, after skill `from` (-1: none), never one the library records a fall for after it.
+  int Choose(const double* command, double seconds, int from = -1);
   // Forgets what is owed (a new task).
   void Reset() { owed_to_.reset(); }
   const NearestSkillSelector& nearest() const { return nearest_; }

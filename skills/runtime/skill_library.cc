@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -357,7 +358,35 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
                  "'s is not " + std::to_string(d.id));
     }
   }
+  if (m.Has("/transitions/falls")) {
+    const nlohmann::json& falls = m.At("/transitions/falls");
+    if (!falls.is_array()) m.Fail("/transitions/falls", "must be a list of [from, to] skill id pairs");
+    for (size_t i = 0; i < falls.size(); ++i) {
+      const std::string at = "/transitions/falls/" + std::to_string(i);
+      if (!falls[i].is_array() || falls[i].size() != 2) m.Fail(at, "must be a [from, to] pair of skill ids");
+      const int from = m.Get<int>(at + "/0"), to = m.Get<int>(at + "/1");
+      for (int id : {from, to}) {
+        if (id < 0 || id >= lib.num_skills_) {
+          m.Fail(at, "names skill " + std::to_string(id) + "; expected 0 to " + std::to_string(lib.num_skills_ - 1));
+        }
+      }
+      if (from == to) m.Fail(at, "switches skill " + std::to_string(from) + " to itself");
+      lib.falling_switches_.emplace(from, to);
+    }
+  }
   return lib;
+}
+
+void WriteCheckedLibrary(const std::string& output, const SafeTensors& file) {
+  const std::string unchecked = output + ".unchecked";
+  WriteSafeTensors(unchecked, file);
+  try {
+    SkillLibrary::Load(unchecked);
+  } catch (...) {
+    std::filesystem::remove(unchecked);
+    throw;
+  }
+  std::filesystem::rename(unchecked, output);
 }
 
 NetworkRunner::NetworkRunner(const DenseNetwork& network) : network_(network) {

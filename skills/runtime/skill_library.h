@@ -8,8 +8,12 @@
 
 #include <array>
 #include <optional>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "skills/runtime/safetensors.h"
 
 namespace flsd {
 
@@ -119,6 +123,11 @@ class SkillLibrary {
   // The skill selector, if the library carries one (flsd export-selector).
   const std::optional<SelectorNetwork>& selector() const { return selector_; }
   const std::vector<SkillDescriptor>& skills() const { return skills_; }
+  // Whether the robot fell when skill `from` handed over straight to skill `to` in the switches the
+  // library records (`flsd transitions --record`, /transitions/falls): a selector does not make
+  // that switch. False for a library that records none.
+  bool SwitchFell(int from, int to) const { return falling_switches_.count({from, to}) > 0; }
+  const std::set<std::pair<int, int>>& falling_switches() const { return falling_switches_; }
   // The cutoff (0: none) and order of the target filter the skills were trained behind; whoever
   // runs the policy runs a TargetFilter with them.
   double action_filter_hz() const { return action_filter_hz_; }
@@ -138,7 +147,12 @@ class SkillLibrary {
   std::vector<SkillPolicy> policies_;
   std::optional<SelectorNetwork> selector_;
   std::vector<SkillDescriptor> skills_;
+  std::set<std::pair<int, int>> falling_switches_;
 };
+
+// Writes a library file as `output` (atomically), after loading it as skilld will: a file that
+// would not load never takes the name. Throws InputError naming what is wrong.
+void WriteCheckedLibrary(const std::string& output, const SafeTensors& file);
 
 // Runs a DenseNetwork on one input at a time, into buffers allocated at construction: Run()
 // does no heap allocation. Holds a reference to `network`, which must outlive it.

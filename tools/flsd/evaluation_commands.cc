@@ -142,6 +142,8 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   struct TransitionArgs {
     std::string library = "models/a1_flsd.safetensors";
     double first = 2.0, seconds = 4.0;
+    int handovers = 5;
+    bool record = false;
   };
   auto transitions = std::make_shared<TransitionArgs>();
   CLI::App* transitions_cmd = app.add_subcommand(
@@ -151,10 +153,17 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
       ->check(CLI::Range(0.5, 60.0));
   transitions_cmd->add_option("--seconds", transitions->seconds, "Seconds the second skill runs")
       ->check(CLI::Range(1.5, 60.0));
+  transitions_cmd->add_option("--handovers", transitions->handovers,
+                              "Switches per pair, the first skill running 0.1 s longer each time")
+      ->check(CLI::Range(1, 50));
+  transitions_cmd->add_flag("--record", transitions->record,
+                            "Record the switches that fell in the library, so that skilld's selectors never make them");
   out.push_back({transitions_cmd, [transitions] {
-                   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(transitions->library));
+                   const std::string path = ResolveDataPath(transitions->library);
+                   const SkillLibrary library = SkillLibrary::Load(path);
                    const TransitionEvaluation evaluation = EvaluateTransitions(
-                       library, TrainingEnvOf(library), transitions->first, transitions->seconds, 1.0, 1);
+                       library, TrainingEnvOf(library), transitions->first, transitions->seconds, 1.0, 1, transitions->handovers);
+                   if (transitions->record) RecordTransitions(path, evaluation);
                    return PrintJson(TransitionJson(evaluation));
                  }});
 }

@@ -2,10 +2,12 @@
 
 #include <cmath>
 
+#include "core/check.h"
 #include "robot/observation.h"
 #include "sim/env.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/runtime/nearest_skill.h"
+#include "skills/runtime/safetensors.h"
 
 namespace flsd {
 namespace {
@@ -37,10 +39,12 @@ bool RunSkill(Env& env, PolicyRunner& runner, int skill, int steps, std::array<f
 }  // namespace
 
 TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvConfig& env_config, double first_seconds,
-                                         double second_seconds, double settle_seconds, uint64_t seed) {
+                                         double second_seconds, double settle_seconds, uint64_t seed, int handovers) {
+  FLSD_DEMAND(handovers >= 1);
   auto steps_of = [](double seconds) { return static_cast<int>(std::lround(seconds / a1::kControlDt)); };
   const int first = steps_of(first_seconds), second = steps_of(second_seconds), settle = steps_of(settle_seconds);
-  const EnvConfig config = ServedEnvConfig(library, env_config, first + second + 1);
+  const int spacing = steps_of(kHandoverSpacing);
+  const EnvConfig config = ServedEnvConfig(library, env_config, first + (handovers - 1) * spacing + second + 1);
   const MjModelPtr model = LoadMjModel(config.model);
   PolicyRunner runner(library);
 
@@ -48,6 +52,7 @@ TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvC
   out.first_seconds = first_seconds;
   out.second_seconds = second_seconds;
   out.settle_seconds = settle_seconds;
+  out.handovers = handovers;
   out.skills = NearestSkillSelector(library).candidates();
   out.falls_into.assign(out.skills.size(), 0);
   std::vector<int> sources{-1};  // the stand, then every skill
@@ -56,12 +61,17 @@ TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvC
     const int to = out.skills[j];
     for (int from : sources) {
       if (from == to) continue;
-      Env env(*model, config, seed);
-      env.Reset();
-      std::array<float, kActionSize> previous{};
       TransitionResult r{from, to};
-      r.fell = (from >= 0 && !RunSkill(env, runner, from, first, previous)) ||
-               !RunSkill(env, runner, to, second, previous, settle, &r.achieved);
+      // From the stand there is no stride to be in: one start.
+      for (int h = 0; h < (from >= 0 ? handovers : 1) && !r.fell; ++h) {
+        Env env(*model, config, seed);
+        env.Reset();
+        std::array<float, kActionSize> previous{};
+        std::array<double, 3> achieved{};
+        r.fell = (from >= 0 && !RunSkill(env, runner, from, first + h * spacing, previous)) ||
+                 !RunSkill(env, runner, to, second, previous, settle, &achieved);
+        if (h == 0) r.achieved = achieved;
+      }
       if (from >= 0) {
         ++out.pairs;
         out.falls += r.fell;
@@ -84,6 +94,7 @@ nlohmann::json TransitionJson(const TransitionEvaluation& e) {
   for (size_t j = 0; j < e.skills.size(); ++j) into[std::to_string(e.skills[j])] = e.falls_into[j];
   return {{"first_seconds", e.first_seconds},
           {"second_seconds", e.second_seconds},
+          {"handovers", e.handovers},
           {"settle_seconds", e.settle_seconds},
           {"skills", e.skills},
           {"pairs", e.pairs},
@@ -91,6 +102,22 @@ nlohmann::json TransitionJson(const TransitionEvaluation& e) {
           {"fall_share", e.pairs > 0 ? static_cast<double>(e.falls) / e.pairs : 0.0},
           {"falls_into", into},
           {"results", results}};
+}
+
+void RecordTransitions(const std::string& path, const TransitionEvaluation& e) {
+  SafeTensors file = ReadSafeTensors(path);
+  nlohmann::json metadata = nlohmann::json::parse(file.metadata.at("flsd"));
+  nlohmann::json falls = nlohmann::json::array();
+  for (const TransitionResult& r : e.results) {
+    if (r.from >= 0 && r.fell) falls.push_back({r.from, r.to});
+  }
+  metadata["transitions"] = {{"first_seconds", e.first_seconds},
+                             {"second_seconds", e.second_seconds},
+                             {"handovers", e.handovers},
+                             {"pairs", e.pairs},
+                             {"falls", falls}};
+  file.metadata["flsd"] = metadata.dump();
+  WriteCheckedLibrary(path, file);
 }
 
 }  // namespace flsd

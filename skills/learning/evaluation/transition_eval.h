@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "sim/env_config.h"
@@ -24,6 +25,7 @@ struct TransitionResult {
 
 struct TransitionEvaluation {
   double first_seconds = 0.0, second_seconds = 0.0, settle_seconds = 0.0;
+  int handovers = 1;
   std::vector<int> skills;                // the dependable skills, in id order
   std::vector<TransitionResult> results;  // per target b: from the stand, then from each a != b
   int pairs = 0, falls = 0;               // over the ordered pairs (not the starts from a stand)
@@ -31,8 +33,18 @@ struct TransitionEvaluation {
 };
 
 // a runs first_seconds, b second_seconds; b's velocity is averaged after settle_seconds of it.
+// Whether a switch throws the robot depends on where in its stride a was: each pair is switched
+// `handovers` times, a running kHandoverSpacing longer each time, and fell if any of them did
+// (achieved is the first one's).
+inline constexpr double kHandoverSpacing = 0.1;  // s: 5 handovers span a stride at 2 Hz
 TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvConfig& env, double first_seconds,
-                                         double second_seconds, double settle_seconds, uint64_t seed);
+                                         double second_seconds, double settle_seconds, uint64_t seed,
+                                         int handovers = 1);
 nlohmann::json TransitionJson(const TransitionEvaluation& evaluation);
+
+// Writes the library at `path` again (atomically, checked as skilld loads it) with the switches that
+// fell recorded as /transitions (the durations, the pairs run and the falls, [from, to]), replacing
+// any recorded before. skilld's selectors then never make those switches (SkillLibrary::SwitchFell).
+void RecordTransitions(const std::string& path, const TransitionEvaluation& evaluation);
 
 }  // namespace flsd

@@ -14,6 +14,7 @@
 
 #include "skills/learning/evaluation/export.h"
 #include "skills/runtime/hierarchical_policy.h"
+#include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
 
 namespace flsd {
@@ -142,6 +143,48 @@ TEST(NearestSkillSelector, ServesAHierarchicalPolicyWithoutALearnedSelectorAndHo
   EXPECT_EQ(ParseSelectorKind("nearest_skill"), SelectorKind::kNearestSkill);
   EXPECT_THAT(testutil::InputErrorMessage([] { ParseSelectorKind("oracle"); }),
               HasSubstr("expected learned or nearest_skill or time_sharing"));
+  std::remove(path.c_str());
+}
+
+// A library that records a fall on the switch from skill 1 to skill 2 (flsd transitions --record).
+std::string WriteLibraryWithAFallingSwitch(const std::vector<Velocity>& velocities) {
+  const std::string path = WriteLibrary(velocities, {});
+  SafeTensors file = ReadSafeTensors(path);
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  meta["transitions"]["falls"] = {{1, 2}};
+  file.metadata["flsd"] = meta.dump();
+  WriteSafeTensors(path, file);
+  return path;
+}
+
+// Neither selector makes a switch the library records a fall for; from elsewhere, or from a
+// stand, the same command gets the nearest skill.
+TEST(NearestSkillSelector, NeverMakesASwitchTheLibraryRecordsAFallFor) {
+  const std::vector<Velocity> velocities = {{0, 0, 0}, {0.5, 0, 0}, {0.8, 0, 0}, {0.7, 0.1, 0}};
+  const std::string path = WriteLibraryWithAFallingSwitch(velocities);
+  const SkillLibrary library = SkillLibrary::Load(path);
+  const NearestSkillSelector nearest(library);
+  const double fast[3] = {0.8, 0, 0};
+  EXPECT_EQ(nearest.Choose(fast), 2);
+  EXPECT_EQ(nearest.Choose(fast, 0), 2);
+  EXPECT_EQ(nearest.Choose(fast, 1), 3);  // the next nearest
+  TimeSharingSelector sharing(library);
+  EXPECT_EQ(sharing.Choose(fast, 1.0, 1), 3);
+
+  // Under HierarchicalPolicy: the skill held, or the one still running at a reset, is the one
+  // switched from.
+  HierarchicalPolicy policy(library, SelectorKind::kNearestSkill);
+  std::vector<float> motion(kMotionObsSize, 0.0f), previous(kActionSize, 0.0f), action(kActionSize);
+  const double walk[3] = {0.5, 0, 0};
+  EXPECT_EQ(policy.Act(motion.data(), walk, previous.data(), action.data()), 1);
+  for (int t = 1; t < HierarchicalPolicy::kNearestSkillHoldSteps; ++t) {
+    policy.Act(motion.data(), fast, previous.data(), action.data());
+  }
+  EXPECT_EQ(policy.Act(motion.data(), fast, previous.data(), action.data()), 3);
+  policy.Reset(1);
+  EXPECT_EQ(policy.Act(motion.data(), fast, previous.data(), action.data()), 3);
+  policy.Reset();
+  EXPECT_EQ(policy.Act(motion.data(), fast, previous.data(), action.data()), 2);
   std::remove(path.c_str());
 }
 

@@ -215,6 +215,34 @@ TEST_F(SkillLibraryTest, EachSkillNamesAPolicyAndOneOfItsSkills) {
               HasSubstr("/policies/0/num_skills must be within [1, 1000000]"));
 }
 
+// The switches that fell in `flsd transitions --record` (/transitions/falls), checked as every
+// other field is: a pair of distinct skill ids.
+TEST_F(SkillLibraryTest, RecordsTheSwitchesThatFell) {
+  EXPECT_TRUE(SkillLibrary::Load(path_).falling_switches().empty());
+  SafeTensors file = ReadSafeTensors(path_);
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  meta["transitions"]["falls"] = {{0, 3}, {4, 1}};
+  file.metadata["flsd"] = meta.dump();
+  WriteSafeTensors(path_, file);
+  const SkillLibrary lib = SkillLibrary::Load(path_);
+  EXPECT_TRUE(lib.SwitchFell(0, 3));
+  EXPECT_TRUE(lib.SwitchFell(4, 1));
+  EXPECT_FALSE(lib.SwitchFell(3, 0));  // a switch has a direction
+  EXPECT_FALSE(lib.SwitchFell(-1, 3));
+  EXPECT_EQ(lib.falling_switches().size(), 2u);
+
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["transitions"]["falls"] = {{0, kSkills}}; }),
+              HasSubstr("/transitions/falls/0 names skill 5; expected 0 to 4"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["transitions"]["falls"] = {{1, 3}, {2, 2}}; }),
+              HasSubstr("/transitions/falls/1 switches skill 2 to itself"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["transitions"]["falls"] = {{1, 3, 4}}; }),
+              HasSubstr("/transitions/falls/0 must be a [from, to] pair of skill ids"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["transitions"]["falls"] = {{1, 0.5}}; }),
+              HasSubstr("/transitions/falls/0/1 must be an integer (it is 0.5)"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["transitions"]["falls"] = "0 to 3"; }),
+              HasSubstr("/transitions/falls must be a list of [from, to] skill id pairs"));
+}
+
 TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { std::swap(m["joint_names"][0], m["joint_names"][1]); }),
               HasSubstr("/joint_names/0 is 'FR_thigh_joint' but this build expects 'FR_hip_joint'"));

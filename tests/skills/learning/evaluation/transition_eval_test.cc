@@ -6,9 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "core/paths.h"
+#include "skills/runtime/compose_library.h"
+#include "tests/common/test_support.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/runtime/nearest_skill.h"
 
@@ -39,6 +42,43 @@ TEST(EvaluateTransitions, RunsEveryOrderedPairAndEachSkillFromAStand) {
   const nlohmann::json json = TransitionJson(e);
   EXPECT_EQ(json["results"][0]["from"], "stand");
   EXPECT_EQ(json["pairs"], e.pairs);
+}
+
+// Switched at more moments of a's stride, a pair falls at least where it fell at the first (which
+// is the same rollout); the falls recorded in the library are those of the evaluation, replaced by
+// a later record. Four skills of the shipped library, among them the gallop and the forward arc it
+// falls into.
+TEST(EvaluateTransitions, MoreHandoversFindAtLeastTheFallsOfOneAndTheRecordKeepsThem) {
+  const std::string path = testutil::UniqueTempPath("transitions.safetensors");
+  ComposeLibraries({{ResolveDataPath("models/a1_flsd.safetensors"), {1, 6, 12, 13}}}, path);
+  const SkillLibrary library = SkillLibrary::Load(path);
+  const TransitionEvaluation one = EvaluateTransitions(library, TrainingEnvOf(library), 2.0, 2.0, 1.0, 1);
+  const TransitionEvaluation three = EvaluateTransitions(library, TrainingEnvOf(library), 2.0, 2.0, 1.0, 1, 3);
+  EXPECT_EQ(three.handovers, 3);
+  ASSERT_EQ(one.results.size(), three.results.size());
+  for (size_t i = 0; i < one.results.size(); ++i) {
+    EXPECT_EQ(one.results[i].achieved, three.results[i].achieved);  // the first handover's
+    if (one.results[i].fell) {
+      EXPECT_TRUE(three.results[i].fell);
+    }
+  }
+  EXPECT_GE(three.falls, one.falls);
+
+  RecordTransitions(path, three);
+  const SkillLibrary recorded = SkillLibrary::Load(path);
+  int recorded_falls = 0;
+  for (const TransitionResult& r : three.results) {
+    if (r.from < 0) continue;
+    EXPECT_EQ(recorded.SwitchFell(r.from, r.to), r.fell) << r.from << " to " << r.to;
+    recorded_falls += recorded.SwitchFell(r.from, r.to);
+  }
+  EXPECT_EQ(recorded_falls, three.falls);
+  EXPECT_EQ(recorded.metadata()["transitions"]["handovers"], 3);
+  TransitionEvaluation none = three;
+  for (TransitionResult& r : none.results) r.fell = false;
+  RecordTransitions(path, none);
+  EXPECT_TRUE(SkillLibrary::Load(path).falling_switches().empty());
+  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "core/paths.h"
 #include "robot/observation.h"
@@ -244,7 +245,22 @@ TEST_F(TaskTraining, TheSelectorHoldsItsChoiceForItsDecisionInterval) {
   hierarchy.Reset();
   BuildTaskObservation(motion[1].data_ptr<float>(), command, obs.data());
   selector.Run(obs.data(), logits.data());
-  EXPECT_EQ(hierarchy.Act(motion[1].data_ptr<float>(), command, previous.data(), action.data()),
+  const int best = static_cast<int>(std::max_element(logits.begin(), logits.end()) - logits.begin());
+  EXPECT_EQ(hierarchy.Act(motion[1].data_ptr<float>(), command, previous.data(), action.data()), best);
+
+  // Nor does it make a switch the library records a fall for: after the skill still running at a
+  // reset, the next most probable.
+  const int running = best == 0 ? 1 : 0;
+  SafeTensors file = ReadSafeTensors(out);
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  meta["transitions"]["falls"] = {{running, best}};
+  file.metadata["flsd"] = meta.dump();
+  WriteSafeTensors(out, file);
+  const SkillLibrary guarded = SkillLibrary::Load(out);
+  HierarchicalPolicy careful(guarded);
+  careful.Reset(running);
+  logits[best] = -std::numeric_limits<float>::infinity();
+  EXPECT_EQ(careful.Act(motion[1].data_ptr<float>(), command, previous.data(), action.data()),
             std::max_element(logits.begin(), logits.end()) - logits.begin());
 }
 

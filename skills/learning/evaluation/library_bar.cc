@@ -7,15 +7,17 @@ namespace flsd {
 namespace {
 
 // How fast a skill with mean body velocity (vx, vy) and yaw rate wz goes `direction` within the
-// limits' other conditions; negative where it does not.
+// limits' other conditions; negative where it does not. A walk goes a way when it goes that way
+// more than across it: a walk back at 1.2 m/s drifting 0.4 m/s right is no walk to the right.
 double SpeedToward(double vx, double vy, double wz, Direction direction, const LibraryBarLimits& limits) {
   const bool straight = std::abs(wz) <= limits.straight_yaw_rate;
   const bool in_place = std::hypot(vx, vy) <= limits.turn_travel;
+  auto along = [straight](double speed, double across) { return straight && speed >= std::abs(across) ? speed : -1.0; };
   switch (direction) {
-    case Direction::kForward: return straight ? vx : -1.0;
-    case Direction::kBackward: return straight ? -vx : -1.0;
-    case Direction::kLeft: return straight ? vy : -1.0;
-    case Direction::kRight: return straight ? -vy : -1.0;
+    case Direction::kForward: return along(vx, vy);
+    case Direction::kBackward: return along(-vx, vy);
+    case Direction::kLeft: return along(vy, vx);
+    case Direction::kRight: return along(-vy, vx);
     case Direction::kTurnLeft: return in_place ? wz : -1.0;
     case Direction::kTurnRight: return in_place ? -wz : -1.0;
   }

@@ -52,6 +52,12 @@ TEST(LibraryBar, EachFailureKeepsItUnmet) {
   EXPECT_TRUE(LibraryBarJson(bar)["directions"]["left"]["skill"].is_null());
 
   e = Library();
+  e.skills[2].mean_linear_velocity[0] = -0.45;  // more backward than left: no walk to the left
+  EXPECT_EQ(JudgeLibrary(e).skill[static_cast<int>(Direction::kLeft)], -1);
+  e.skills[2].mean_linear_velocity[0] = -0.41;  // more left than backward
+  EXPECT_EQ(JudgeLibrary(e).skill[static_cast<int>(Direction::kLeft)], 2);
+
+  e = Library();
   e.skills[7].mean_base_height = 0.22;  // a crouching mover
   EXPECT_FALSE(JudgeLibrary(e).met);
   e = Library();

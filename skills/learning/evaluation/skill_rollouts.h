@@ -37,7 +37,6 @@ class SkillRollouts {
   // After one control step of `skill` with `action`: keeps the env's state unless the step ended
   // the rollout (a failed state is not part of the skill). Returns whether the skill runs on.
   bool Record(int skill, const Env& env, Termination ending, const float* action, bool calf_contact);
-  bool running(int skill) const { return running_[skill]; }
 
   // The paper's metrics over the trajectories, and each skill's velocity-task reward.
   Evaluation Finish(const std::string& method, bool randomized, std::vector<int> mirror_skill) const;

@@ -73,13 +73,13 @@ TEST(LibraryBar, EachFailureKeepsItUnmet) {
   EXPECT_FALSE(JudgeLibrary(e).met);
 }
 
-// From the shipped library's descriptors: forward is 6 (0.88 m/s), backward the 2.05 m/s gallop
-// 8, left and right the diagonal pair 15 and 16 (0.71 and 0.67 m/s sideways, 0.29 back), turning
-// left and right in place 14 and 13 (1.92 and 1.98 rad/s, faster than 11 and 12's 1.5). A turn in
-// place must travel at most 0.2 m/s: with 0.05, none does.
+// From the shipped library's descriptors: forward is 7 (0.875 m/s, a hair faster than its mirror
+// image 2), backward the 2.05 m/s gallop, left and right the diagonal pair 17 and 18 (0.71 and
+// 0.67 m/s sideways, 0.29 back), turning left and right in place 15 and 16 (1.30 and 1.36 rad/s).
+// A turn in place must travel at most 0.2 m/s: with 0.05, none does.
 TEST(LibraryBar, DirectionSkillsOfTheShippedLibrary) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
-  EXPECT_EQ(DirectionSkills(library), (std::array<int, kNumDirections>{6, 8, 15, 16, 14, 13}));
+  EXPECT_EQ(DirectionSkills(library), (std::array<int, kNumDirections>{7, 12, 17, 18, 15, 16}));
   LibraryBarLimits tighter;
   tighter.turn_travel = 0.05;
   EXPECT_EQ(DirectionSkills(library, tighter)[static_cast<int>(Direction::kTurnLeft)], -1);

@@ -69,7 +69,7 @@ struct StateReport {
   uint64_t tick = 0;
   std::string backend;  // sim, hw
   Mode mode = Mode::kIdle;
-  int skill = -1;                          // active skill, -1 if none
+  int skill = -1;                          // active skill (in stand: the still skill braking the last motion), -1 if none
   std::array<double, 3> position{};        // base, world frame, m
   std::array<double, 4> orientation{};     // base, w x y z, body to world
   std::array<double, 3> linear_velocity{};   // base, body frame, m/s

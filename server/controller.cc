@@ -51,6 +51,10 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       navigation_selector_(
           MakeHierarchy(library, "navigation.selector", config.navigation.selector, SelectorKind::kNearestSkill)),
       target_filter_(library.action_filter_hz(), library.action_filter_order()) {
+  try {
+    still_skills_.emplace(library);
+  } catch (const InputError&) {  // no dependable skill: the stand follows a policy at once
+  }
   state_ = backend_.Read();
   Publish();
 }
@@ -108,7 +112,7 @@ void Controller::Tick() {
   hazards_ = faults | SafetySupervisor::Hazards(state_, config_.safety);
   if (MotorsActive()) {
     // A robot rising from the floor, or lying down to rise again, is low until it has stood up.
-    const bool rising = mode_ == Mode::kStand && (stand_ticks_ < stand_total_ticks_ || lying_down_);
+    const bool rising = mode_ == Mode::kStand && !Braking() && (stand_ticks_ < stand_total_ticks_ || lying_down_);
     faults |= supervisor_.Check(state_, a1::kControlDt, !rising);
   } else {
     supervisor_.Reset();
@@ -132,24 +136,31 @@ void Controller::Tick() {
 
   // A skill or velocity task waiting for the stand starts now, so that its policy acts from its
   // first published tick.
-  if (mode_ == Mode::kStand && stand_ticks_ >= stand_total_ticks_) SettledStand();
+  if (mode_ == Mode::kStand && !Braking() && stand_ticks_ >= stand_total_ticks_) SettledStand();
   JointCommand command;
   switch (mode_) {
     case Mode::kStand: command = StandCommand(); break;
-    case Mode::kSkill: command = task_ticks_left_ > 0 ? SkillCommand() : EndTimedTask(); break;
+    case Mode::kSkill: command = TakeTaskTick() ? SkillCommand() : EndTimedTask(); break;
     case Mode::kVelocity:
-    case Mode::kNavigate: command = task_ticks_left_ > 0 ? VelocityCommand() : EndTimedTask(); break;
+    case Mode::kNavigate: command = TakeTaskTick() ? VelocityCommand() : EndTimedTask(); break;
     default: command = DampCommand(); break;
   }
   backend_.Send(command);
 
   if (task_.state == TaskState::kRunning) {
     task_.elapsed = static_cast<double>(tick_ - task_start_tick_) * a1::kControlDt;
-    const int stand_left = mode_ == Mode::kStand ? std::max(0, stand_total_ticks_ - stand_ticks_) : 0;
+    // While braking, the stand's own time is not known yet: its settling half second stands for it.
+    const int stand_left = mode_ != Mode::kStand ? 0
+                           : Braking() ? brake_ticks_left_ + Ticks(0.5)
+                                                   : std::max(0, stand_total_ticks_ - stand_ticks_);
     const int task_left = mode_ == Mode::kStand ? pending_ticks_ : task_ticks_left_;
     task_.remaining = (stand_left + task_left) * a1::kControlDt;
   }
   Publish();
+}
+
+bool Controller::PolicyActs() const {
+  return mode_ == Mode::kSkill || mode_ == Mode::kVelocity || mode_ == Mode::kNavigate;
 }
 
 bool Controller::MotorsActive() const {
@@ -269,6 +280,7 @@ void Controller::Apply(const ControlRequest& request) {
       if (task_.state == TaskState::kRunning) EndTask(TaskState::kCancelled, "the simulation was reset");
       backend_.Reset();
       state_ = backend_.Read();
+      mode_ = Mode::kIdle;  // the reset robot is at rest: nothing to brake
       latched_faults_ = 0;
       fault_message_[0] = '\0';
       pending_mode_ = Mode::kIdle;
@@ -291,10 +303,22 @@ bool Controller::StopApplies(const ControlRequest& stop) const {
 }
 
 void Controller::EnterStand() {
-  mode_ = Mode::kStand;
-  skill_ = -1;
   lying_down_ = false;
+  if (Braking()) return;  // the stand follows the brake
+  const int brake = PolicyActs() ? BrakeSkill(skill_) : -1;
+  mode_ = Mode::kStand;
+  brake_ticks_left_ = Ticks(config_.stand_brake_time);
+  skill_ = brake_ticks_left_ > 0 ? brake : -1;
+  if (Braking()) return;
   MoveTargets(a1::kDefaultJointPos);
+}
+
+int Controller::BrakeSkill(int from) const {
+  if (!still_skills_) return -1;
+  const double zero[3] = {0.0, 0.0, 0.0};
+  const size_t i = still_skills_->NearestCandidate(zero, from);
+  if (NearestSkillSelector::Distance(still_skills_->velocities()[i], Eigen::Vector3d::Zero()) > kStillSpeed) return -1;
+  return still_skills_->candidates()[i];
 }
 
 void Controller::LieDown() {
@@ -418,6 +442,14 @@ void Controller::EndTask(TaskState state, const char* message) {
 }
 
 JointCommand Controller::StandCommand() {
+  if (Braking()) {
+    if (brake_ticks_left_ > 0) {
+      --brake_ticks_left_;
+      return SkillCommand();
+    }
+    skill_ = -1;  // braked: now the stand's targets hold the legs
+    MoveTargets(a1::kDefaultJointPos);
+  }
   const double s = std::min(1.0, static_cast<double>(stand_ticks_) / stand_move_ticks_);
   a1::JointArray<double> target;
   for (int j = 0; j < a1::kNumJoints; ++j) target[j] = stand_from_[j] + s * (stand_to_[j] - stand_from_[j]);
@@ -452,8 +484,13 @@ JointCommand Controller::PolicyCommand() {
   // The filter sees the targets as training's did; only its output is clamped for the motors.
   a1::JointArray<double> target = target_filter_.Apply(JointTargetsFromAction(action_.data()));
   SafetySupervisor::ClampTargets(target);
-  --task_ticks_left_;
   return JointCommand::Track(target);
+}
+
+bool Controller::TakeTaskTick() {
+  if (task_ticks_left_ <= 0) return false;
+  --task_ticks_left_;
+  return true;
 }
 
 JointCommand Controller::EndTimedTask() {

@@ -18,6 +18,7 @@
 #include "server/safety.h"
 #include "server/server_config.h"
 #include "skills/runtime/hierarchical_policy.h"
+#include "skills/runtime/nearest_skill.h"
 
 namespace flsd {
 
@@ -116,7 +117,13 @@ class Controller {
   void Apply(const ControlRequest& request);
   bool StopApplies(const ControlRequest& stop) const;
   bool TakeQueued(ControlRequest& request);
+  // To the default pose. After a policy, the library's stillest skill first runs for
+  // stand_brake_time (BrakeSkill): holding the legs where a fast skill left them tips the robot.
   void EnterStand();
+  // The dependable skill nearest standing still that the library records no fall for on a switch
+  // from `from`; -1 if none is within kStillSpeed of still.
+  int BrakeSkill(int from) const;
+  static constexpr double kStillSpeed = 0.1;  // m/s (NearestSkillSelector::Distance from zero)
   // Recovery: targets to kLyingPose, then (SettledStand) up again.
   void LieDown();
   void MoveTargets(const a1::JointArray<double>& to);
@@ -130,16 +137,20 @@ class Controller {
   void StartTask(const ControlRequest& request, const char* call);
   void EndTask(TaskState state, const char* message);
   JointCommand StandCommand();
-  JointCommand SkillCommand();
+  JointCommand SkillCommand();  // skill_'s policy: a skill task's, or the brake's
   JointCommand VelocityCommand();
   // The selector that mode runs under (kVelocity, kNavigate), or nullptr.
   HierarchicalPolicy* Hierarchy(Mode mode);
-  // Checks and applies a policy's joint action; counts the task's time down.
+  // Checks and applies a policy's joint action.
   JointCommand PolicyCommand();
+  // Counts a timed task's tick down; false once its time is up.
+  bool TakeTaskTick();
   // A skill or velocity task whose time is up: it succeeded (a navigation timed out); stand.
   JointCommand EndTimedTask();
   JointCommand DampCommand() const { return JointCommand::Damp(config_.safety.damping_kd); }
   bool MotorsActive() const;
+  bool PolicyActs() const;  // a skill, velocity or navigation task's policy commands the motors
+  bool Braking() const { return mode_ == Mode::kStand && skill_ >= 0; }
   void Publish();
 
   Backend& backend_;
@@ -150,6 +161,7 @@ class Controller {
   // The velocity mode's and the navigation mode's selectors (config selector, navigation.selector).
   std::optional<HierarchicalPolicy> velocity_selector_, navigation_selector_;
   TargetFilter target_filter_;  // the library's, as in training
+  std::optional<NearestSkillSelector> still_skills_;  // BrakeSkill's candidates
 
   // Control-thread state.
   RobotState state_;
@@ -171,11 +183,12 @@ class Controller {
   int stand_ticks_ = 0;
   int stand_move_ticks_ = 1;   // moving the targets to the default pose
   int stand_total_ticks_ = 1;  // then holding them while the robot settles
+  int brake_ticks_left_ = 0;   // while Braking(): its policy's ticks before the stand moves the targets
   // What starts once standing: a skill, or a velocity task; kIdle for nothing.
   Mode pending_mode_ = Mode::kIdle;
   int pending_skill_ = -1;
   int pending_ticks_ = 0;
-  int skill_ = -1;  // the skill running (chosen by the selector in the velocity modes)
+  int skill_ = -1;  // the skill running (chosen by the selector in the velocity modes; the brake in kStand)
   int task_ticks_left_ = 0;
   std::array<double, 3> velocity_command_{};
   std::array<float, kMotionObsSize> motion_obs_{};

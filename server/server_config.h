@@ -55,8 +55,8 @@ struct SafetyConfig {
 // does not after max_recoveries has its task ended with the reason.
 struct StandCheckConfig {
   double max_tilt = 0.2;             // rad from upright (0.01-0.03 when standing on flat ground)
-  double min_base_height = 0.2;      // m (0.24-0.25 at the training gains); 0 turns it off
-  double max_joint_error = 0.35;     // rad from the default pose (Kp 20 sags 0.24-0.28 under the body)
+  double min_base_height = 0.2;      // m (0.27 at the stand's gains, 0.24-0.25 at training's); 0 turns it off
+  double max_joint_error = 0.35;     // rad from the default pose (the stand sags 0.12, Kp 20 0.24-0.28)
   double max_joint_speed = 1.0;      // rad/s, every joint
   // rad/s of the base, as the IMU measures it (the base's linear velocity is only estimated on the
   // real robot, and drifts by tenths of a m/s while it stands)
@@ -113,8 +113,14 @@ struct ServerConfig {
   double lease_timeout = 1.0;      // s without a request from the controlling client
   double max_duration = 600.0;     // s, the longest skill or velocity command accepted
   double stand_joint_speed = 1.5;  // rad/s at which stand moves joint targets to the default pose
-  double stand_kp = a1::kKp;       // PD gains while standing (the training gains by default)
-  double stand_kd = a1::kKd;
+  // PD gains while standing: twice the training stiffness. At the training gains the stand cannot
+  // pull the feet a crouched or sitting skill leaves splayed back under the hips, so the stand
+  // check failed after half the skills and a lie-down recovery followed.
+  double stand_kp = 2.0 * a1::kKp;
+  double stand_kd = 2.0 * a1::kKd;
+  // s that the library's stillest skill runs after a skill or velocity task, before the stand's
+  // targets hold the legs: caught mid-stride in a fast turn, the legs tip the robot (0: stand at once)
+  double stand_brake_time = 0.4;
   double requests_per_second = 1000.0;  // per client; beyond it requests are dropped and counted
   int request_burst = 100;
   int control_priority = 80;  // SCHED_FIFO priority of the control loop; 0: the normal scheduler
@@ -148,6 +154,7 @@ struct ServerConfig {
     v("stand_joint_speed", stand_joint_speed, Bounds<double>{0.1, 10.0});
     v("stand_kp", stand_kp, Bounds<double>{0.0, 200.0});
     v("stand_kd", stand_kd, Bounds<double>{0.0, 10.0});
+    v("stand_brake_time", stand_brake_time, Bounds<double>{0.0, 10.0});
     v("requests_per_second", requests_per_second, Bounds<double>{1.0, 100000.0});
     v("request_burst", request_burst, Bounds<int>{1, 100000});
     v("control_priority", control_priority, Bounds<int>{0, 99});

@@ -2,6 +2,9 @@
 
 #include <Eigen/Cholesky>
 
+#include <algorithm>
+#include <cmath>
+
 namespace flsd::hw {
 namespace {
 
@@ -19,6 +22,7 @@ void StateEstimator::Reset(const Eigen::Vector3d& position) {
   x_.head<3>() = position;
   p_ = Matrix6d::Identity() * 1e-2;
   last_good_position_ = position;
+  height_untrusted_time_ = 0.0;
 }
 
 void StateEstimator::Update(const LowState& frame, double dt) {
@@ -48,11 +52,14 @@ void StateEstimator::Update(const LowState& frame, double dt) {
   // out. A sliding foot is still on the floor, so its height is used under a gate of its own:
   // without it, a gait whose every foot slides (a turn in place) left the height to the
   // accelerometer alone, and it drifted by 0.1 m.
+  bool in_stance = false, height_trusted = false;
+  double nearest_rejected_height = HUGE_VAL;  // squared innovation
   for (int leg = 0; leg < a1::kNumLegs; ++leg) {
     const double force = frame.foot_force[leg];
     state_.foot_force[leg] = force;
     state_.foot_contact[leg] = force > config_.contact_threshold;
     if (!state_.foot_contact[leg]) continue;
+    in_stance = true;
     double q[3], qd[3];
     for (int i = 0; i < 3; ++i) {
       q[i] = frame.motors[leg * 3 + i].q;
@@ -76,13 +83,29 @@ void StateEstimator::Update(const LowState& frame, double dt) {
       const Eigen::Matrix<double, 6, 4> k = p_ * h.transpose() * s_inverse;
       x_ += k * innovation;
       p_ = (Matrix6d::Identity() - k * h) * p_;
+      height_trusted = true;
       continue;
     }
     const double height_innovation = innovation(3), height_variance = s(3, 3);
-    if (!(height_innovation * height_innovation <= config_.slip_gate * height_variance)) continue;
+    if (!(height_innovation * height_innovation <= config_.slip_gate * height_variance)) {
+      nearest_rejected_height = std::min(nearest_rejected_height, height_innovation * height_innovation);
+      continue;
+    }
     const Vector6d k = p_.col(2) / height_variance;
     x_ += k * height_innovation;
     p_ -= k * p_.row(2);
+    height_trusted = true;
+  }
+  // Time in stance since a foot was last trusted for height; flight neither counts nor clears it.
+  if (height_trusted) {
+    height_untrusted_time_ = 0.0;
+  } else if (in_stance) {
+    height_untrusted_time_ += dt;
+  }
+  if (height_untrusted_time_ > config_.height_reacquire_time) {
+    // Adding to the diagonal keeps the covariance positive definite.
+    p_(2, 2) += nearest_rejected_height;
+    height_untrusted_time_ = 0.0;
   }
 
   if (!x_.allFinite() || !p_.allFinite()) Reset(last_good_position_);  // never stay poisoned

@@ -39,6 +39,7 @@ class StateEstimator {
   Matrix6d p_ = Matrix6d::Identity();
   RobotState state_;
   Eigen::Vector3d last_good_position_ = Eigen::Vector3d::Zero();
+  double height_untrusted_time_ = 0.0;  // s with feet in stance, none of them within the height gate
 };
 
 }  // namespace flsd::hw

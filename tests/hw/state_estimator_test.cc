@@ -88,6 +88,36 @@ TEST(StateEstimator, TracksTheBodyVelocityAndHeightOfEverySkill) {
   }
 }
 
+// Standing for `seconds` with the estimate started `height_offset` m above the truth; returns the
+// height error at the end.
+double HeightErrorAfterStanding(double seconds, double height_offset, const EstimatorConfig& estimator_config) {
+  EnvConfig config;
+  config.randomization.DisableAll();
+  config.reset.joint_pos_scale = {1.0, 1.0};
+  config.reset.base_velocity = 0.0;
+  const MjModelPtr model = LoadMjModel(config.model);
+  Env env(*model, config, 1);
+  StateEstimator estimator(LegKinematics::FromUrdf("robot/a1/a1.urdf"), estimator_config);
+  estimator.Reset(env.state().base_position + Eigen::Vector3d(0.0, 0.0, height_offset));
+  Rng rng(3);
+  for (int i = 0; i < static_cast<int>(seconds / a1::kPhysicsDt); ++i) {
+    env.StepCommand(JointCommand::Track(a1::kDefaultJointPos), 1);
+    estimator.Update(MakeSensorFrame(env.state(), env.state().base_orientation.conjugate() * Eigen::Vector3d(0, 0, 9.81),
+                                     0.005, 0.05, rng),
+                     a1::kPhysicsDt);
+  }
+  return std::abs(estimator.state().base_position.z() - env.state().base_position.z());
+}
+
+// A height estimate that drifted past the stance feet's gate (as in a hopping gait's flights) is
+// taken back to them once they have been distrusted for height_reacquire_time, not kept forever.
+TEST(StateEstimator, AHeightPastTheGateIsReacquiredFromTheStanceFeet) {
+  EstimatorConfig config;
+  EXPECT_LT(HeightErrorAfterStanding(1.0, 0.5, config), 0.02);
+  config.height_reacquire_time = 10.0;  // never, within the second
+  EXPECT_GT(HeightErrorAfterStanding(1.0, 0.5, config), 0.3);
+}
+
 TEST(StateEstimator, AStandingRobotIsEstimatedAtRest) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
   EnvConfig config;

@@ -413,7 +413,10 @@ bool RequestHandler::Submit(ControlRequest request, const std::string& client_id
 
 std::string RequestHandler::StatusText(const ControllerStatus& s) const {
   std::string text = std::string("mode ") + dds::ModeName(dds::ToIdl(s.mode));
-  if (s.skill >= 0) text += " " + std::to_string(s.skill);
+  if (s.skill >= 0) {
+    const std::string k = std::to_string(s.skill);
+    text += s.mode == Mode::kStand ? " (skill " + k + " braking the last motion)" : " " + k;
+  }
   text += ", t " + Seconds(s.time) + ", control " + (lease_.held() ? lease_.holder() : std::string("free"));
   text += ", faults " + (s.faults != 0 ? std::string(s.fault_message.data()) : std::string("none"));
   return text;

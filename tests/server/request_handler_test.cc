@@ -16,6 +16,7 @@
 
 #include "core/check.h"
 #include "tests/common/test_support.h"
+#include "tests/common/skill_choice.h"
 #include "tests/server/server_fixture.h"
 
 namespace flsd {
@@ -67,6 +68,22 @@ TEST_F(RequestHandlerTest, ListAndStatusNeedNoControl) {
   EXPECT_EQ(status.status, ReplyStatus::kOk);
   EXPECT_THAT(status.message, HasSubstr("mode idle"));
   EXPECT_THAT(status.message, HasSubstr("control free"));
+}
+
+// The status names the running skill, and in stand the still skill that brakes the last motion.
+TEST_F(RequestHandlerTest, StatusNamesTheSkillRunningAndTheOneBraking) {
+  const int walk = testutil::CalmestStraightSkill(controller_.library());
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  ASSERT_EQ(Skill("a", walk, 1.0).status, ReplyStatus::kOk);
+  for (int t = 0; t < 500 && controller_.status().mode != Mode::kSkill; ++t) controller_.Tick();
+  EXPECT_THAT(Send("a", "status").message, HasSubstr("mode skill " + std::to_string(walk) + ","));
+  for (int t = 0; t < 100 && controller_.status().mode == Mode::kSkill; ++t) controller_.Tick();
+  const int brake = controller_.status().skill;
+  ASSERT_GE(brake, 0);
+  EXPECT_THAT(Send("a", "status").message,
+              HasSubstr("mode stand (skill " + std::to_string(brake) + " braking the last motion),"));
+  RunFor(config_.stand_brake_time);
+  EXPECT_THAT(Send("a", "status").message, HasSubstr("mode stand, t "));
 }
 
 TEST_F(RequestHandlerTest, MotionNeedsTheLeaseAndOnlyItsHolderMoves) {

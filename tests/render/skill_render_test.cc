@@ -76,9 +76,9 @@ TEST(RunRender, AContactSheetTilesEverySkillFourAcrossWithItsNumber) {
   options.seconds = 0.2;
   EXPECT_EQ(RunRender(options), 0);
   const Image sheet = ReadPng(file.path());
-  // 19 skills: 4 x 5 tiles of 160x120 with 4-pixel gaps
+  // 16 skills: 4 x 4 tiles of 160x120 with 4-pixel gaps
   ASSERT_EQ(sheet.width, 4 * 164 + 4);
-  ASSERT_EQ(sheet.height, 5 * 124 + 4);
+  ASSERT_EQ(sheet.height, 4 * 124 + 4);
   const Rgb background{20, 20, 20}, label_box{30, 30, 30}, white{255, 255, 255};
   EXPECT_EQ(sheet.at(0, 0), background);
   EXPECT_EQ(sheet.at(4 + 160, 60), background) << "the gap between the first two tiles";
@@ -94,11 +94,11 @@ TEST(RunRender, AContactSheetTilesEverySkillFourAcrossWithItsNumber) {
 TEST(RunRender, ASkillOutOfRangeIsAnInputErrorNamingTheRange) {
   ScratchFile file(".gif");
   RenderOptions options = ShortRender(file.path());
-  options.skill = 19;
+  options.skill = 16;
   EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }),
-              AllOf(HasSubstr("skill 19"), HasSubstr("0 to 18"), HasSubstr("a1_flsd.safetensors")));
+              AllOf(HasSubstr("skill 16"), HasSubstr("0 to 15"), HasSubstr("a1_flsd.safetensors")));
   options.skill = -1;
-  EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }), HasSubstr("0 to 18"));
+  EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }), HasSubstr("0 to 15"));
   EXPECT_FALSE(std::filesystem::exists(file.path()));
 }
 

@@ -46,11 +46,11 @@ TEST(EvaluateTransitions, RunsEveryOrderedPairAndEachSkillFromAStand) {
 
 // Switched at more moments of a's stride, a pair falls at least where it fell at the first (which
 // is the same rollout); the falls recorded in the library are those of the evaluation, replaced by
-// a later record. Four skills of the shipped library, among them the gallop and the forward arc it
-// falls into.
+// a later record. Four skills of the shipped library: its two stands and the two fast turns in
+// place they fall into.
 TEST(EvaluateTransitions, MoreHandoversFindAtLeastTheFallsOfOneAndTheRecordKeepsThem) {
   const std::string path = testutil::UniqueTempPath("transitions.safetensors");
-  ComposeLibraries({{ResolveDataPath("models/a1_flsd.safetensors"), {1, 6, 12, 13}}}, path);
+  ComposeLibraries({{ResolveDataPath("models/a1_flsd.safetensors"), {0, 1, 12, 13}}}, path);
   const SkillLibrary library = SkillLibrary::Load(path);
   const TransitionEvaluation one = EvaluateTransitions(library, TrainingEnvOf(library), 2.0, 2.0, 1.0, 1);
   const TransitionEvaluation three = EvaluateTransitions(library, TrainingEnvOf(library), 2.0, 2.0, 1.0, 1, 3);

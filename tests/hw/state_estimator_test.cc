@@ -88,9 +88,13 @@ TEST(StateEstimator, TracksTheBodyVelocityAndHeightOfEverySkill) {
   }
 }
 
-// Standing for `seconds` with the estimate started `height_offset` m above the truth; returns the
-// height error at the end.
-double HeightErrorAfterStanding(double seconds, double height_offset, const EstimatorConfig& estimator_config) {
+struct Standing {
+  RobotState estimate, truth;
+};
+
+// The robot standing for `seconds` at the training gains, the estimate started `height_offset` m
+// above the truth.
+Standing StandFor(double seconds, double height_offset, const EstimatorConfig& estimator_config) {
   EnvConfig config;
   config.randomization.DisableAll();
   config.reset.joint_pos_scale = {1.0, 1.0};
@@ -106,38 +110,25 @@ double HeightErrorAfterStanding(double seconds, double height_offset, const Esti
                                      0.005, 0.05, rng),
                      a1::kPhysicsDt);
   }
-  return std::abs(estimator.state().base_position.z() - env.state().base_position.z());
+  return {estimator.state(), env.state()};
 }
+
+double HeightError(const Standing& s) { return std::abs(s.estimate.base_position.z() - s.truth.base_position.z()); }
 
 // A height estimate that drifted past the stance feet's gate (as in a hopping gait's flights) is
 // taken back to them once they have been distrusted for height_reacquire_time, not kept forever.
 TEST(StateEstimator, AHeightPastTheGateIsReacquiredFromTheStanceFeet) {
   EstimatorConfig config;
-  EXPECT_LT(HeightErrorAfterStanding(1.0, 0.5, config), 0.02);
+  EXPECT_LT(HeightError(StandFor(1.0, 0.5, config)), 0.02);
   config.height_reacquire_time = 10.0;  // never, within the second
-  EXPECT_GT(HeightErrorAfterStanding(1.0, 0.5, config), 0.3);
+  EXPECT_GT(HeightError(StandFor(1.0, 0.5, config)), 0.3);
 }
 
 TEST(StateEstimator, AStandingRobotIsEstimatedAtRest) {
-  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
-  EnvConfig config;
-  config.randomization.DisableAll();
-  config.reset.joint_pos_scale = {1.0, 1.0};
-  config.reset.base_velocity = 0.0;
-  const MjModelPtr model = LoadMjModel(config.model);
-  Env env(*model, config, 1);
-  StateEstimator estimator(LegKinematics::FromUrdf("robot/a1/a1.urdf"), EstimatorConfig{});
-  estimator.Reset(env.state().base_position);
-  Rng rng(3);
-  for (int i = 0; i < 800; ++i) {  // 4 s
-    env.StepCommand(JointCommand::Track(a1::kDefaultJointPos), 1);
-    estimator.Update(MakeSensorFrame(env.state(), env.state().base_orientation.conjugate() * Eigen::Vector3d(0, 0, 9.81),
-                                     0.005, 0.05, rng),
-                     a1::kPhysicsDt);
-  }
-  EXPECT_LT(estimator.state().base_linear_velocity.norm(), 0.05);
-  EXPECT_NEAR(estimator.state().base_position.z(), env.state().base_position.z(), 0.02);
-  EXPECT_EQ(estimator.state().foot_contact, (std::array<bool, 4>{true, true, true, true}));
+  const Standing s = StandFor(4.0, 0.0, EstimatorConfig{});
+  EXPECT_LT(s.estimate.base_linear_velocity.norm(), 0.05);
+  EXPECT_LT(HeightError(s), 0.02);
+  EXPECT_EQ(s.estimate.foot_contact, (std::array<bool, 4>{true, true, true, true}));
 }
 
 }  // namespace

@@ -28,7 +28,12 @@ void OnSignal(int) { g_interrupted = true; }
 
 void PrintState(const flsd::StateReport& s) {
   std::printf("t %7.2f  %-8s", s.time, flsd::Name(s.mode));
-  if (s.skill >= 0) std::printf(" %-3d", s.skill); else std::printf("    ");
+  // In stand, a skill is the one braking the last motion.
+  if (s.skill < 0) {
+    std::printf("     ");
+  } else {
+    std::printf(s.mode == flsd::Mode::kStand ? " b%-3d" : " %-4d", s.skill);
+  }
   std::printf("  xyz %6.2f %6.2f %5.2f  v %5.2f %5.2f  wz %5.2f", s.position[0], s.position[1], s.position[2],
               s.linear_velocity[0], s.linear_velocity[1], s.angular_velocity[2]);
   if (s.faults != 0) std::printf("  FAULT %s", s.fault_message.c_str());

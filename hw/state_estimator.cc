@@ -102,7 +102,7 @@ void StateEstimator::Update(const LowState& frame, double dt) {
   } else if (in_stance) {
     height_untrusted_time_ += dt;
   }
-  if (height_untrusted_time_ > config_.height_reacquire_time) {
+  if (height_untrusted_time_ > config_.height_reacquire_time && std::isfinite(nearest_rejected_height)) {
     // Adding to the diagonal keeps the covariance positive definite.
     p_(2, 2) += nearest_rejected_height;
     height_untrusted_time_ = 0.0;

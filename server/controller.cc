@@ -149,10 +149,10 @@ void Controller::Tick() {
 
   if (task_.state == TaskState::kRunning) {
     task_.elapsed = static_cast<double>(tick_ - task_start_tick_) * a1::kControlDt;
-    // While braking, the stand's own time is not known yet: its settling half second stands for it.
+    // While braking, the stand that follows is estimated from where the legs are now.
     const int stand_left = mode_ != Mode::kStand ? 0
-                           : Braking() ? brake_ticks_left_ + Ticks(0.5)
-                                                   : std::max(0, stand_total_ticks_ - stand_ticks_);
+                           : Braking() ? brake_ticks_left_ + StandTicks(state_.joint_position, a1::kDefaultJointPos)
+                                       : std::max(0, stand_total_ticks_ - stand_ticks_);
     const int task_left = mode_ == Mode::kStand ? pending_ticks_ : task_ticks_left_;
     task_.remaining = (stand_left + task_left) * a1::kControlDt;
   }
@@ -317,8 +317,11 @@ int Controller::BrakeSkill(int from) const {
   if (!still_skills_) return -1;
   const double zero[3] = {0.0, 0.0, 0.0};
   const size_t i = still_skills_->NearestCandidate(zero, from);
+  const int brake = still_skills_->candidates()[i];
+  // NearestCandidate falls back to a recorded fall when every candidate is one: no brake then.
+  if (library_.SwitchFell(from, brake)) return -1;
   if (NearestSkillSelector::Distance(still_skills_->velocities()[i], Eigen::Vector3d::Zero()) > kStillSpeed) return -1;
-  return still_skills_->candidates()[i];
+  return brake;
 }
 
 void Controller::LieDown() {
@@ -329,14 +332,16 @@ void Controller::LieDown() {
 void Controller::MoveTargets(const a1::JointArray<double>& to) {
   stand_from_ = state_.joint_position;
   stand_to_ = to;
-  double farthest = 0.0;
-  for (int j = 0; j < a1::kNumJoints; ++j) farthest = std::max(farthest, std::abs(to[j] - stand_from_[j]));
   stand_ticks_ = 0;
   unverified_ticks_ = 0;
-  // Joint targets move at stand_joint_speed, then hold for a settling half second, so that a
-  // skill starts from rest.
-  stand_move_ticks_ = std::max(1, Ticks(farthest / config_.stand_joint_speed));
-  stand_total_ticks_ = stand_move_ticks_ + Ticks(0.5);
+  stand_total_ticks_ = StandTicks(stand_from_, to);
+  stand_move_ticks_ = stand_total_ticks_ - Ticks(kStandSettle);
+}
+
+int Controller::StandTicks(const a1::JointArray<double>& from, const a1::JointArray<double>& to) const {
+  double farthest = 0.0;
+  for (int j = 0; j < a1::kNumJoints; ++j) farthest = std::max(farthest, std::abs(to[j] - from[j]));
+  return std::max(1, Ticks(farthest / config_.stand_joint_speed)) + Ticks(kStandSettle);
 }
 
 void Controller::SettledStand() {

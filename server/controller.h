@@ -127,6 +127,10 @@ class Controller {
   // Recovery: targets to kLyingPose, then (SettledStand) up again.
   void LieDown();
   void MoveTargets(const a1::JointArray<double>& to);
+  // Joint targets move at stand_joint_speed, then hold for kStandSettle, so that a skill starts
+  // from rest: the ticks that takes from `from` to `to`.
+  int StandTicks(const a1::JointArray<double>& from, const a1::JointArray<double>& to) const;
+  static constexpr double kStandSettle = 0.5;  // s
   // Once a stand has settled: starts what waits for it if the robot stands as it should,
   // otherwise recovers or ends the waiting task with the reason.
   void SettledStand();

@@ -115,11 +115,12 @@ struct ServerConfig {
   double stand_joint_speed = 1.5;  // rad/s at which stand moves joint targets to the default pose
   // PD gains while standing: twice the training stiffness. At the training gains the stand cannot
   // pull the feet a crouched or sitting skill leaves splayed back under the hips, so the stand
-  // check failed after half the skills and a lie-down recovery followed.
+  // check failed after 6 of 19 skills of a library and a lie-down recovery followed.
   double stand_kp = 2.0 * a1::kKp;
   double stand_kd = 2.0 * a1::kKd;
-  // s that the library's stillest skill runs after a skill or velocity task, before the stand's
-  // targets hold the legs: caught mid-stride in a fast turn, the legs tip the robot (0: stand at once)
+  // s that the library's stillest skill runs after a skill, velocity or navigation task, before
+  // the stand's targets hold the legs: caught mid-stride in a fast turn, the legs tip the robot
+  // (0: stand at once)
   double stand_brake_time = 0.4;
   double requests_per_second = 1000.0;  // per client; beyond it requests are dropped and counted
   int request_burst = 100;

@@ -49,7 +49,7 @@ function showStatus(s, clientId) {
   const task = s.task.call ? `${s.task.call} ${s.task.state} ${s.task.elapsed.toFixed(1)} s${s.task.message ? ` (${s.task.message})` : ''}` : '–';
   const rows = {
     mode: s.mode,
-    skill: s.skill >= 0 ? s.skill : '–',
+    skill: s.skill < 0 ? '–' : s.mode === 'stand' ? `${s.skill}, braking the last motion` : s.skill,
     task,
     control: s.controller ? (s.controller === clientId ? `this page (${s.controller})` : s.controller) : 'nobody',
     faults: s.faults ? s.fault_message || `0x${s.faults.toString(16)}` : 'none',
@@ -64,7 +64,7 @@ function showStatus(s, clientId) {
     dd.id = `status-${k}`;
     return [dt, dd];
   }));
-  $('mode').textContent = s.skill >= 0 ? `${s.mode} ${s.skill}` : s.mode;
+  $('mode').textContent = s.skill < 0 ? s.mode : s.mode === 'stand' ? `${s.mode}, braking` : `${s.mode} ${s.skill}`;
   $('mode').className = `badge ${s.mode === 'damp' ? 'damp' : ''}`;
   $('fault').hidden = !s.faults;
   $('fault').textContent = `Safety stop: ${s.fault_message}`;

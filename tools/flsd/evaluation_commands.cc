@@ -57,6 +57,8 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   CLI::App* eval_cmd = app.add_subcommand("eval", "Roll out every skill and compute the paper's metrics");
   eval_cmd->add_option("run", eval->run_dir, "Run folder")->required();
   eval_cmd->add_flag("--randomize", eval->options.randomize, "Keep the training randomisation on");
+  eval_cmd->add_flag("--standing-start", eval->options.standing_start,
+                    "With --randomize: start each skill at rest in the default pose, as skilld does, not tossed");
   eval_cmd->add_option("--steps", eval->options.steps, "Steps per skill (default: the episode length)")
       ->check(CLI::Range(1, 1000000));
   eval_cmd->add_option("--seed", eval->options.seed, "Seed of the starts and the randomisation (default: 1)");
@@ -78,6 +80,8 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
       "eval-library", "Roll out every skill of a library as skilld runs it, compute the paper's metrics and judge the bar");
   eval_library_cmd->add_option("library", eval_library->library, "Skill library (default: the shipped one)");
   eval_library_cmd->add_flag("--randomize", eval_library->options.randomize, "Keep the training randomisation on");
+  eval_library_cmd->add_flag("--standing-start", eval_library->options.standing_start,
+                    "With --randomize: start each skill at rest in the default pose, as skilld does, not tossed");
   eval_library_cmd->add_option("--steps", eval_library->options.steps, "Steps per skill (default: the episode length)")
       ->check(CLI::Range(1, 1000000));
   eval_library_cmd->add_option("--seed", eval_library->options.seed, "Seed of the start and the randomisation (default: 1)");
@@ -86,6 +90,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
                    const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(eval_library->library));
                    nlohmann::json result = EvaluationJson(EvaluateLibrary(library, eval_library->options));
                    result["library"] = eval_library->library;
+                   result["standing_start"] = eval_library->options.randomize && eval_library->options.standing_start;
                    return eval_library->json ? PrintJson(result) : PrintEvaluationSummary(eval_library->library, result);
                  }});
 

@@ -35,8 +35,8 @@ nlohmann::json TermsJson(const VelocityRewardTerms& terms) {
 
 EnvConfig EvaluationEnvConfig(const EnvConfig& training, const EvaluationOptions& options) {
   EnvConfig env = training;
-  if (!options.randomize) {
-    env.randomization.DisableAll();
+  if (!options.randomize) env.randomization.DisableAll();
+  if (!options.randomize || options.standing_start) {
     env.reset.base_velocity = 0.0;
     env.reset.joint_pos_scale = {1.0, 1.0};
   }

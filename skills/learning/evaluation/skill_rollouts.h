@@ -17,11 +17,16 @@ namespace flsd {
 
 struct EvaluationOptions {
   bool randomize = false;  // keep the training randomisation (and pushes) on
+  // With randomize: every skill starts from the default pose at rest, as skilld starts one from a
+  // stand, rather than from the training's tossed reset (joints scaled, the base thrown); the
+  // physics and the pushes stay randomised. Tells a skill's falls from the toss from the rest.
+  bool standing_start = false;
   int steps = 0;           // per skill; 0: the config's episode length
   uint64_t seed = 1;
 };
 
-// The env a skill is evaluated in: the training env, made nominal unless options.randomize, and
+// The env a skill is evaluated in: the training env, made nominal unless options.randomize (its
+// start untossed also with options.standing_start), and
 // one step longer than the record (`steps`), so that no episode times out inside it.
 EnvConfig EvaluationEnvConfig(const EnvConfig& training, const EvaluationOptions& options);
 int EvaluationSteps(const EnvConfig& training, const EvaluationOptions& options);

@@ -90,7 +90,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
                    const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(eval_library->library));
                    nlohmann::json result = EvaluationJson(EvaluateLibrary(library, eval_library->options));
                    result["library"] = eval_library->library;
-                   result["standing_start"] = eval_library->options.randomize && eval_library->options.standing_start;
+                   result["standing_start"] = eval_library->options.RandomizedFromStand();
                    return eval_library->json ? PrintJson(result) : PrintEvaluationSummary(eval_library->library, result);
                  }});
 

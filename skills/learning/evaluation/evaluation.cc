@@ -74,10 +74,10 @@ nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& 
   json["run"] = run_dir;
   json["iteration"] = trained.iteration;
   json["env_steps"] = trained.env_steps;
-  json["standing_start"] = options.randomize && options.standing_start;
+  json["standing_start"] = options.RandomizedFromStand();
   const std::string suffix =
       (iteration > 0 ? "_" + std::to_string(iteration) : std::string()) + (options.randomize ? "_randomized" : "") +
-      (options.randomize && options.standing_start ? "_standing" : "");
+      (options.RandomizedFromStand() ? "_standing" : "");
   WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + ".json")).string(), json.dump(2) + "\n");
   WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + "_skills.csv")).string(), SkillSummaryCsv(eval));
   return json;

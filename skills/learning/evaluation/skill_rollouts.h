@@ -17,12 +17,14 @@ namespace flsd {
 
 struct EvaluationOptions {
   bool randomize = false;  // keep the training randomisation (and pushes) on
+  int steps = 0;           // per skill; 0: the config's episode length
+  uint64_t seed = 1;
   // With randomize: every skill starts from the default pose at rest, as skilld starts one from a
   // stand, rather than from the training's tossed reset (joints scaled, the base thrown); the
   // physics and the pushes stay randomised. Tells a skill's falls from the toss from the rest.
+  // Last, so that {randomize, steps, seed} initialisers keep their meaning.
   bool standing_start = false;
-  int steps = 0;           // per skill; 0: the config's episode length
-  uint64_t seed = 1;
+  bool RandomizedFromStand() const { return randomize && standing_start; }
 };
 
 // The env a skill is evaluated in: the training env, made nominal unless options.randomize (its

@@ -17,9 +17,9 @@ namespace flsd {
 
 struct FollowerConfig {
   double lookahead = 0.6;        // m along the path
-  // m/s. Above the fast walks' speeds, so that the nearest-skill selector picks the fastest one on
-  // a straight (at 0.8 the shipped library walked at 0.72 m/s rather than 0.88; flsd bench nav:
-  // 0.9 took 5 % less time, reaching as many goals).
+  // m/s. Just above the shipped library's fastest forward walk (0.88 m/s), so that the
+  // nearest-skill selector picks it on a straight (at 0.8 it picked the 0.72 m/s walk; flsd bench
+  // nav: 0.9 took 5 % less time, reaching as many goals).
   double max_speed = 0.9;
   double max_turn_rate = 1.0;    // rad/s (skilld: at most the rate of the library's tightest turn)
   double heading_gain = 1.5;     // rad/s per rad of heading error

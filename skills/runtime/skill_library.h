@@ -33,7 +33,8 @@ struct SkillDescriptor {
   int policy = 0;
   int policy_skill = 0;
   std::optional<double> mean_stance_foot_speed;  // m/s: how fast its stance feet slide
-  std::optional<int> randomized_survival_steps;  // under the training randomisation
+  std::optional<int> randomized_survival_steps;  // under the training randomisation, the worst start
+  std::optional<double> randomized_stance_foot_speed;  // m/s, the mean over those starts
   bool randomized_fell = false;
 
   // The fields as the library's metadata names them, listed once: `flsd export` writes them
@@ -54,6 +55,7 @@ struct SkillDescriptor {
     v("fell", fell, true);
     v("randomized_survival_steps", randomized_survival_steps, false);
     v("randomized_fell", randomized_fell, false);
+    v("randomized_stance_foot_speed", randomized_stance_foot_speed, false);
   }
 };
 

@@ -73,6 +73,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   struct EvalLibraryArgs {
     std::string library = "models/a1_flsd.safetensors";
     EvaluationOptions options;
+    int starts = 1;
     bool json = false;
   };
   auto eval_library = std::make_shared<EvalLibraryArgs>();
@@ -85,10 +86,16 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   eval_library_cmd->add_option("--steps", eval_library->options.steps, "Steps per skill (default: the episode length)")
       ->check(CLI::Range(1, 1000000));
   eval_library_cmd->add_option("--seed", eval_library->options.seed, "Seed of the start and the randomisation (default: 1)");
+  eval_library_cmd->add_option("--starts", eval_library->starts,
+                               "Starts per skill, seeds SEED, SEED+1, ...: survival the worst, slip the mean (export: " +
+                                   std::to_string(kRandomizedStarts) + " randomised; default: 1)")
+      ->check(CLI::Range(1, 1000));
   eval_library_cmd->add_flag("--json", eval_library->json, "Print the whole JSON (default: a summary)");
   out.push_back({eval_library_cmd, [eval_library] {
                    const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(eval_library->library));
-                   nlohmann::json result = EvaluationJson(EvaluateLibrary(library, eval_library->options));
+                   nlohmann::json result = EvaluationJson(
+                       EvaluateOverStarts(eval_library->options, eval_library->starts,
+                                          [&](const EvaluationOptions& o) { return EvaluateLibrary(library, o); }));
                    result["library"] = eval_library->library;
                    result["standing_start"] = eval_library->options.RandomizedFromStand();
                    return eval_library->json ? PrintJson(result) : PrintEvaluationSummary(eval_library->library, result);

@@ -46,7 +46,9 @@ ReportRun EvaluateForReport(const std::string& spec, int steps) {
   options.steps = steps;
   run.nominal = EvaluateSkills(config, trained.policy, trained.normalizer, options);
   options.randomize = true;
-  run.randomized = EvaluateWorstOfStarts(config, trained.policy, trained.normalizer, options, kRandomizedStarts);
+  run.randomized = EvaluateOverStarts(options, kRandomizedStarts, [&](const EvaluationOptions& o) {
+    return EvaluateSkills(config, trained.policy, trained.normalizer, o);
+  });
   spdlog::info("{}: {} at iteration {}, {} of {} skills survive 500 steps ({} in every randomised start), coverage {} cells",
                run.label, run.method, run.iteration, run.nominal.survivors, run.nominal.skills.size(),
                run.randomized.survivors, run.nominal.coverage.cells_visited);

@@ -3,7 +3,6 @@
 #include <filesystem>
 
 #include "core/atomic_file.h"
-#include "core/check.h"
 #include "robot/observation.h"
 #include "core/thread_pool.h"
 #include "sim/vec_env.h"
@@ -43,26 +42,6 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
   std::vector<int> mirror_skill;
   for (int k = 0; k < skills; ++k) mirror_skill.push_back(pairing(k));
   return rollouts.Finish(config.method, options.randomize, std::move(mirror_skill));
-}
-
-Evaluation EvaluateWorstOfStarts(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
-                                 const EvaluationOptions& options, int starts) {
-  FLSD_DEMAND(starts >= 1);
-  Evaluation worst = EvaluateSkills(config, policy, normalizer, options);
-  worst.starts = starts;
-  for (int n = 1; n < starts; ++n) {
-    EvaluationOptions other = options;
-    other.seed = options.seed + static_cast<uint64_t>(n);
-    const Evaluation e = EvaluateSkills(config, policy, normalizer, other);
-    for (std::size_t k = 0; k < worst.skills.size(); ++k) {
-      SkillSummary& s = worst.skills[k];
-      s.survival_steps = std::min(s.survival_steps, e.skills[k].survival_steps);
-      s.fell = s.fell || e.skills[k].fell;
-    }
-  }
-  worst.survivors = 0;
-  for (const SkillSummary& s : worst.skills) worst.survivors += Survives(s.survival_steps);
-  return worst;
 }
 
 nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration) {

@@ -18,13 +18,6 @@ namespace flsd {
 Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
                           const EvaluationOptions& options);
 
-// EvaluateSkills from `starts` seeds (options.seed, options.seed + 1, ...): the first one's
-// record (trajectories, velocities, joint speeds, coverage), with each skill's survival the
-// shortest of all its starts, and fell if it fell in any. One randomised start per skill misses
-// skills that fall one time in three. `starts` must be at least 1.
-Evaluation EvaluateWorstOfStarts(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,
-                                 const EvaluationOptions& options, int starts);
-
 // Loads a run folder's config and checkpoint (the latest, or the one kept at `iteration`),
 // evaluates, writes eval.json and eval_skills.csv (eval_ITER.json... for a kept one) into the
 // run folder and returns the JSON.

@@ -96,6 +96,7 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
     d.survival_steps = s.survival_steps;
     d.fell = s.fell;
     d.randomized_survival_steps = r.survival_steps;
+    d.randomized_stance_foot_speed = r.mean_stance_foot_speed;
     d.randomized_fell = r.fell;
     skills.push_back(DescriptorJson(d));
   }
@@ -120,8 +121,9 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, in
   const Evaluation evaluation = EvaluateSkills(config, policy.policy, policy.normalizer, EvaluationOptions{});
   EvaluationOptions randomize;
   randomize.randomize = true;
-  const Evaluation randomized =
-      EvaluateWorstOfStarts(config, policy.policy, policy.normalizer, randomize, kRandomizedStarts);
+  const Evaluation randomized = EvaluateOverStarts(randomize, kRandomizedStarts, [&](const EvaluationOptions& o) {
+    return EvaluateSkills(config, policy.policy, policy.normalizer, o);
+  });
   const ExportProvenance provenance{run_dir, ReadCommits((fs::path(run_dir) / "commits").string()), FLSD_GIT_COMMIT};
   WriteSkillLibrary(path, config, policy, evaluation, randomized, provenance);
   return {{"library", path},

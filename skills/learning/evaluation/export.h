@@ -29,10 +29,6 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
 void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const TrainedPolicy& policy,
                        const Evaluation& evaluation, const Evaluation& randomized, const ExportProvenance& provenance);
 
-// Randomised starts per skill in an exported library's evaluation: a skill's randomised survival
-// is the worst of them. (From one start, postures that fall in 3 of 7 starts passed.)
-inline constexpr int kRandomizedStarts = 8;
-
 // Loads a run (its latest checkpoint, or the one kept at `iteration`), evaluates it without
 // randomisation and with it (kRandomizedStarts starts), and writes its library to `path`.
 nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, int iteration = 0);

@@ -110,7 +110,7 @@ struct Evaluation {
   std::string method;
   int steps = 0;
   bool randomized = false;
-  int starts = 1;  // per skill; survival and falls are the worst of them (EvaluateWorstOfStarts)
+  int starts = 1;  // per skill: survival and falls the worst of them, slip their mean (EvaluateOverStarts)
   std::vector<SkillTrajectory> trajectories;  // one per skill, up to its first termination
   std::vector<SkillSummary> skills;
   std::vector<int> mirror_skill;  // per skill, the skill trained as its mirror image (itself if none)

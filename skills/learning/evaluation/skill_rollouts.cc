@@ -1,7 +1,9 @@
 #include "skills/learning/evaluation/skill_rollouts.h"
 
+#include <algorithm>
 #include <sstream>
 
+#include "core/check.h"
 #include "skills/learning/evaluation/library_bar.h"
 
 namespace flsd {
@@ -103,6 +105,30 @@ VelocityRewardTerms SkillRollouts::TaskReward(std::size_t k, const SkillSummary&
     mean.total += scaled.total / n;
   }
   return mean;
+}
+
+Evaluation EvaluateOverStarts(const EvaluationOptions& options, int starts,
+                              const std::function<Evaluation(const EvaluationOptions&)>& evaluate) {
+  FLSD_DEMAND(starts >= 1);
+  Evaluation first = evaluate(options);
+  first.starts = starts;
+  for (int n = 1; n < starts; ++n) {
+    EvaluationOptions other = options;
+    other.seed = options.seed + static_cast<uint64_t>(n);
+    const Evaluation e = evaluate(other);
+    for (std::size_t k = 0; k < first.skills.size(); ++k) {
+      SkillSummary& s = first.skills[k];
+      s.survival_steps = std::min(s.survival_steps, e.skills[k].survival_steps);
+      s.fell = s.fell || e.skills[k].fell;
+      s.mean_stance_foot_speed += e.skills[k].mean_stance_foot_speed;
+    }
+  }
+  first.survivors = 0;
+  for (SkillSummary& s : first.skills) {
+    s.mean_stance_foot_speed /= starts;
+    first.survivors += Survives(s.survival_steps);
+  }
+  return first;
 }
 
 nlohmann::json EvaluationJson(const Evaluation& e) {

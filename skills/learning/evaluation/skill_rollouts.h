@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,18 @@ class SkillRollouts {
   std::vector<std::vector<TaskStep>> task_steps_;
   std::vector<bool> running_;
 };
+
+// Randomised starts per skill in an exported library's evaluation (EvaluateOverStarts). From one
+// start, postures that fall in 3 of 7 starts passed.
+inline constexpr int kRandomizedStarts = 8;
+
+// `evaluate` from `starts` seeds (options.seed, options.seed + 1, ...): the first one's record
+// (trajectories, velocities, joint speeds, coverage), with each skill's survival the shortest of
+// its starts, fell if it fell in any, and its stance-foot slip the mean of its starts. One
+// randomised start misses skills that fall one time in three, and moves a skill's slip by up to
+// 0.13 m/s. `starts` must be at least 1.
+Evaluation EvaluateOverStarts(const EvaluationOptions& options, int starts,
+                              const std::function<Evaluation(const EvaluationOptions&)>& evaluate);
 
 nlohmann::json EvaluationJson(const Evaluation& evaluation);
 // One row per skill: survival, mean velocities, height, gait frequency, high-frequency ratio.

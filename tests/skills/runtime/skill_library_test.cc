@@ -81,6 +81,7 @@ TEST_F(SkillLibraryTest, LoadsShapesAndDescriptors) {
   EXPECT_EQ(lib.skills()[4].mirror_skill, 4);
   EXPECT_DOUBLE_EQ(lib.skills()[3].mean_stance_foot_speed.value(), 0.03);
   EXPECT_EQ(lib.skills()[3].randomized_survival_steps.value(), 397);
+  EXPECT_DOUBLE_EQ(lib.skills()[3].randomized_stance_foot_speed.value(), 0.06);
   EXPECT_FALSE(lib.skills()[3].randomized_fell);
   EXPECT_TRUE(lib.skills()[4].randomized_fell);
   EXPECT_EQ(lib.metadata()["policies"][0]["randomized_evaluation"]["randomized"], true);
@@ -94,7 +95,8 @@ TEST_F(SkillLibraryTest, MirrorImagesMustPairBothWaysAndOlderLibrariesHaveNone) 
   SafeTensors file = ReadSafeTensors(path_);
   nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
   for (nlohmann::json& skill : meta["skills"]) {
-    for (const char* key : {"mirror_skill", "mean_stance_foot_speed", "randomized_survival_steps", "randomized_fell"}) {
+    for (const char* key : {"mirror_skill", "mean_stance_foot_speed", "randomized_survival_steps", "randomized_fell",
+                            "randomized_stance_foot_speed"}) {
       skill.erase(key);
     }
   }
@@ -105,6 +107,7 @@ TEST_F(SkillLibraryTest, MirrorImagesMustPairBothWaysAndOlderLibrariesHaveNone) 
   EXPECT_EQ(lib.skills()[3].mirror_skill, 3);
   EXPECT_FALSE(lib.skills()[3].mean_stance_foot_speed.has_value());
   EXPECT_FALSE(lib.skills()[3].randomized_survival_steps.has_value());
+  EXPECT_FALSE(lib.skills()[3].randomized_stance_foot_speed.has_value());
   std::remove(old.c_str());
 }
 
@@ -115,11 +118,12 @@ TEST_F(SkillLibraryTest, DescriptorsRoundTripThroughTheirFieldList) {
   const SkillDescriptor& d = lib.skills()[3];
   const nlohmann::json written = DescriptorJson(d);
   EXPECT_EQ(written, lib.metadata()["skills"][3]);  // export wrote exactly this
-  EXPECT_EQ(written.size(), 13u);
+  EXPECT_EQ(written.size(), 14u);
   EXPECT_EQ(written["mean_linear_velocity"], nlohmann::json({0.1 * 3, -0.2, 0.0}));  // FakeEvaluation's
   SkillDescriptor without_optionals = d;
   without_optionals.mean_stance_foot_speed.reset();
   without_optionals.randomized_survival_steps.reset();
+  without_optionals.randomized_stance_foot_speed.reset();
   EXPECT_EQ(DescriptorJson(without_optionals).size(), 11u);
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["skills"][2].erase("gait_frequency_hz"); }),
               HasSubstr("/skills/2/gait_frequency_hz is missing"));

@@ -56,7 +56,10 @@ inline Evaluation FakeEvaluation(int skills) {
 inline Evaluation FakeRandomizedEvaluation(int skills) {
   Evaluation e = FakeEvaluation(skills);
   e.randomized = true;
-  for (SkillSummary& s : e.skills) s.survival_steps = 400 - s.skill;
+  for (SkillSummary& s : e.skills) {
+    s.survival_steps = 400 - s.skill;
+    s.mean_stance_foot_speed = 0.02 * s.skill;  // rough floors slide the feet more
+  }
   e.skills.back().fell = true;
   return e;
 }

@@ -76,29 +76,30 @@ TEST(RunRender, AContactSheetTilesEverySkillFourAcrossWithItsNumber) {
   options.seconds = 0.2;
   EXPECT_EQ(RunRender(options), 0);
   const Image sheet = ReadPng(file.path());
-  // 16 skills: 4 x 4 tiles of 160x120 with 4-pixel gaps
+  // 14 skills: 4 rows of up to 4 tiles of 160x120 with 4-pixel gaps
   ASSERT_EQ(sheet.width, 4 * 164 + 4);
   ASSERT_EQ(sheet.height, 4 * 124 + 4);
   const Rgb background{20, 20, 20}, label_box{30, 30, 30}, white{255, 255, 255};
   EXPECT_EQ(sheet.at(0, 0), background);
   EXPECT_EQ(sheet.at(4 + 160, 60), background) << "the gap between the first two tiles";
   // Labels at (8, 8) in each tile, one pixel per font pixel at this height: the box's corner,
-  // the top of tile 0's '0' (font column 1) and of the '1' of tile 15's "15" (font column 2).
+  // the top of tile 0's '0' (font column 1) and of the '1' of tile 13's "13" (font column 2).
   EXPECT_EQ(sheet.at(4 + 8, 4 + 8), label_box);
   EXPECT_EQ(sheet.at(4 + 8 + 1 + 1, 4 + 8 + 1), white);
-  const int tile15_x = 4 + 3 * 164, tile15_y = 4 + 3 * 124;
-  EXPECT_EQ(sheet.at(tile15_x + 8 + 1 + 2, tile15_y + 8 + 1), white);
-  EXPECT_EQ(sheet.at(tile15_x + 8 + 1 + 0, tile15_y + 8 + 1), label_box);
+  const int tile13_x = 4 + 1 * 164, tile13_y = 4 + 3 * 124;
+  EXPECT_EQ(sheet.at(tile13_x + 8 + 1 + 2, tile13_y + 8 + 1), white);
+  EXPECT_EQ(sheet.at(tile13_x + 8 + 1 + 0, tile13_y + 8 + 1), label_box);
+  EXPECT_EQ(sheet.at(4 + 2 * 164 + 8, 4 + 3 * 124 + 8), background) << "no tile 14";
 }
 
 TEST(RunRender, ASkillOutOfRangeIsAnInputErrorNamingTheRange) {
   ScratchFile file(".gif");
   RenderOptions options = ShortRender(file.path());
-  options.skill = 16;
+  options.skill = 14;
   EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }),
-              AllOf(HasSubstr("skill 16"), HasSubstr("0 to 15"), HasSubstr("a1_flsd.safetensors")));
+              AllOf(HasSubstr("skill 14"), HasSubstr("0 to 13"), HasSubstr("a1_flsd.safetensors")));
   options.skill = -1;
-  EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }), HasSubstr("0 to 15"));
+  EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }), HasSubstr("0 to 13"));
   EXPECT_FALSE(std::filesystem::exists(file.path()));
 }
 

@@ -58,8 +58,7 @@ TEST(ShippedLibrary, ThreeSkillsKeepTheRobotUpFor10s) {
 }
 
 // Skill k and its pair, as the library's evaluation measured them: the same forward speed, and
-// sideways speed and turn rate of opposite signs, to 0.1 (the fastest turns in place, 1.92 and
-// 1.98 rad/s, differ the most).
+// sideways speed and turn rate of opposite signs, to 0.1.
 TEST(ShippedLibrary, PairsMoveAsMirrorImages) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
   int pairs = 0;
@@ -70,7 +69,7 @@ TEST(ShippedLibrary, PairsMoveAsMirrorImages) {
     EXPECT_NEAR(d.mean_linear_velocity.y(), -m.mean_linear_velocity.y(), 0.1) << "skill " << d.id;
     EXPECT_NEAR(d.mean_angular_velocity.z(), -m.mean_angular_velocity.z(), 0.1) << "skill " << d.id;
   }
-  EXPECT_EQ(pairs, 12);  // 6 mirror pairs and 4 self-paired skills
+  EXPECT_EQ(pairs, 10);  // 5 mirror pairs and 4 self-paired skills
 }
 
 // The library ships no skill that skilld would refuse: each one survived its evaluation, and the

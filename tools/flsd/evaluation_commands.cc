@@ -30,14 +30,16 @@ int PrintJson(const nlohmann::json& result) {
 
 int PrintEvaluationSummary(const std::string& name, const nlohmann::json& result) {
   const nlohmann::json& bar = result["bar"];
+  const int starts = result["starts_per_skill"].get<int>();
+  const std::string over = starts > 1 ? " (survival the worst of " + std::to_string(starts) + " starts, slip their mean)" : "";
   std::printf("%s: %d of %d skills survive 500 steps; state coverage %.4f (%ld of %ld cells); "
               "high-frequency power ratio %.4f\n"
-              "bar %s: %d movers, lowest base %.3f m, fastest stance-foot slip %.3f m/s; skill per direction:",
+              "bar %s%s: %d movers, lowest base %.3f m, fastest stance-foot slip %.3f m/s; skill per direction:",
               name.c_str(), result["skills_surviving_500_steps"].get<int>(), result["num_skills"].get<int>(),
               result["state_coverage"]["rate"].get<double>(), result["state_coverage"]["cells_visited"].get<long>(),
               result["state_coverage"]["cells_total"].get<long>(),
               result["high_frequency_power_ratio"]["pooled"].get<double>(), bar["met"].get<bool>() ? "met" : "not met",
-              bar["movers"].get<int>(), bar["lowest_mover_height"].get<double>(),
+              over.c_str(), bar["movers"].get<int>(), bar["lowest_mover_height"].get<double>(),
               bar["fastest_mover_slip"].get<double>());
   for (const auto& [direction, choice] : bar["directions"].items()) {
     std::printf(" %s %s", direction.c_str(), choice["skill"].is_null() ? "none" : choice["skill"].dump().c_str());

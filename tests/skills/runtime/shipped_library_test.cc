@@ -73,12 +73,13 @@ TEST(ShippedLibrary, PairsMoveAsMirrorImages) {
 }
 
 // The library ships no skill that skilld would refuse: each one survived its evaluation, and the
-// randomised one from the worst of 8 starts.
+// randomised one from the worst of 8 starts, whose mean slip it records.
 TEST(ShippedLibrary, NoSkillFellInEitherEvaluation) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
   for (const SkillDescriptor& d : library.skills()) {
     EXPECT_FALSE(EarliestFall(d)) << "skill " << d.id;
     EXPECT_TRUE(d.randomized_survival_steps.has_value()) << "skill " << d.id;
+    EXPECT_GT(d.randomized_stance_foot_speed.value_or(0.0), 0.0) << "skill " << d.id;
   }
 }
 

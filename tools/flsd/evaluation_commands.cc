@@ -28,6 +28,11 @@ int PrintJson(const nlohmann::json& result) {
   return 0;
 }
 
+std::string StartsHelp() {
+  return "Starts per skill, seeds SEED, SEED+1, ...: survival the worst, slip the mean (export: " +
+         std::to_string(kRandomizedStarts) + " randomised; default: 1)";
+}
+
 int PrintEvaluationSummary(const std::string& name, const nlohmann::json& result) {
   const nlohmann::json& bar = result["bar"];
   const int starts = result["starts_per_skill"].get<int>();
@@ -53,6 +58,7 @@ int PrintEvaluationSummary(const std::string& name, const nlohmann::json& result
 void AddEvaluation(CLI::App& app, Subcommands& out) {
   struct EvalArgs : RunArgs {
     EvaluationOptions options;
+    int starts = 1;
     bool json = false;
   };
   auto eval = std::make_shared<EvalArgs>();
@@ -64,11 +70,13 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   eval_cmd->add_option("--steps", eval->options.steps, "Steps per skill (default: the episode length)")
       ->check(CLI::Range(1, 1000000));
   eval_cmd->add_option("--seed", eval->options.seed, "Seed of the starts and the randomisation (default: 1)");
+  eval_cmd->add_option("--starts", eval->starts, StartsHelp())->check(CLI::Range(1, 1000));
   eval_cmd->add_flag("--json", eval->json, "Print the whole JSON (default: a summary)");
   eval_cmd->add_option("--iteration", eval->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
   out.push_back({eval_cmd, [eval] {
                    ConfigureTorchThreads(0);
-                   const nlohmann::json result = EvaluateRun(eval->run_dir, eval->options, eval->kept_iteration);
+                   const nlohmann::json result =
+                       EvaluateRun(eval->run_dir, eval->options, eval->kept_iteration, eval->starts);
                    return eval->json ? PrintJson(result) : PrintEvaluationSummary(eval->run_dir, result);
                  }});
 
@@ -88,10 +96,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   eval_library_cmd->add_option("--steps", eval_library->options.steps, "Steps per skill (default: the episode length)")
       ->check(CLI::Range(1, 1000000));
   eval_library_cmd->add_option("--seed", eval_library->options.seed, "Seed of the start and the randomisation (default: 1)");
-  eval_library_cmd->add_option("--starts", eval_library->starts,
-                               "Starts per skill, seeds SEED, SEED+1, ...: survival the worst, slip the mean (export: " +
-                                   std::to_string(kRandomizedStarts) + " randomised; default: 1)")
-      ->check(CLI::Range(1, 1000));
+  eval_library_cmd->add_option("--starts", eval_library->starts, StartsHelp())->check(CLI::Range(1, 1000));
   eval_library_cmd->add_flag("--json", eval_library->json, "Print the whole JSON (default: a summary)");
   out.push_back({eval_library_cmd, [eval_library] {
                    const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(eval_library->library));

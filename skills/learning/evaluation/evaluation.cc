@@ -44,11 +44,13 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
   return rollouts.Finish(config.method, options.randomize, std::move(mirror_skill));
 }
 
-nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration) {
+nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration, int starts) {
   namespace fs = std::filesystem;
   const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
   const TrainedPolicy trained = LoadTrainedPolicy(config, RunCheckpoint(run_dir, iteration));
-  const Evaluation eval = EvaluateSkills(config, trained.policy, trained.normalizer, options);
+  const Evaluation eval = EvaluateOverStarts(options, starts, [&](const EvaluationOptions& o) {
+    return EvaluateSkills(config, trained.policy, trained.normalizer, o);
+  });
   nlohmann::json json = EvaluationJson(eval);
   json["run"] = run_dir;
   json["iteration"] = trained.iteration;
@@ -56,7 +58,7 @@ nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& 
   json["standing_start"] = options.RandomizedFromStand();
   const std::string suffix =
       (iteration > 0 ? "_" + std::to_string(iteration) : std::string()) + (options.randomize ? "_randomized" : "") +
-      (options.RandomizedFromStand() ? "_standing" : "");
+      (options.RandomizedFromStand() ? "_standing" : "") + (starts > 1 ? "_starts" + std::to_string(starts) : "");
   WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + ".json")).string(), json.dump(2) + "\n");
   WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + "_skills.csv")).string(), SkillSummaryCsv(eval));
   return json;

@@ -19,8 +19,10 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
                           const EvaluationOptions& options);
 
 // Loads a run folder's config and checkpoint (the latest, or the one kept at `iteration`),
-// evaluates, writes eval.json and eval_skills.csv (eval_ITER.json... for a kept one) into the
-// run folder and returns the JSON.
-nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration = 0);
+// evaluates from `starts` seeds (EvaluateOverStarts), writes eval.json and eval_skills.csv
+// (eval_ITER.json... for a kept one, ..._startsN... for several starts) into the run folder and
+// returns the JSON.
+nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration = 0,
+                           int starts = 1);
 
 }  // namespace flsd

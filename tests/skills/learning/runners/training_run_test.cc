@@ -551,6 +551,12 @@ TEST_F(TrainingRun, KeepsACheckpointEveryKeepIterationsThatEvalAndExportCanLoad)
   EXPECT_TRUE(fs::exists(Path("eval_3.json")));
   EXPECT_TRUE(fs::exists(Path("eval_3_skills.csv")));
   EXPECT_FALSE(fs::exists(Path("eval.json"))) << "the latest checkpoint's evaluation was overwritten";
+  EvaluationOptions randomized;
+  randomized.randomize = true;
+  randomized.steps = 50;
+  EXPECT_EQ(EvaluateRun(dir_, randomized, 3, 2)["starts_per_skill"], 2);
+  EXPECT_TRUE(fs::exists(Path("eval_3_randomized_starts2.json")));
+  EXPECT_TRUE(fs::exists(Path("eval_3_randomized_starts2_skills.csv")));
   EXPECT_EQ(ExportRun(dir_, Path("kept.safetensors"), 6)["iteration"], 6);
   EXPECT_EQ(ExportRun(dir_, Path("latest.safetensors"))["iteration"], 7);
   EXPECT_THAT(InputErrorMessage([&] { RunCheckpoint(dir_, 4); }),
@@ -579,6 +585,13 @@ TEST_F(TrainingRun, EvaluatesAndExportsARun) {
   const std::string library_path = Path("skills.safetensors");
   const nlohmann::json summary = ExportRun(dir_, library_path);
   EXPECT_EQ(summary["num_skills"], 4);
+  // Each descriptor's randomised slip is its skill's mean over the randomised evaluation's starts.
+  const nlohmann::json exported = nlohmann::json::parse(ReadSafeTensors(library_path).metadata.at("flsd"));
+  const nlohmann::json& randomized = exported["policies"][0]["randomized_evaluation"];
+  EXPECT_EQ(randomized["starts_per_skill"], kRandomizedStarts);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(exported["skills"][k]["randomized_stance_foot_speed"], randomized["skills"][k]["mean_stance_foot_speed"]);
+  }
   EXPECT_EQ(summary["iteration"], 6);
   const SafeTensors library = ReadSafeTensors(library_path);
   EXPECT_EQ(library.metadata.at("format"), "flsd-skill-library");

@@ -74,7 +74,7 @@ TEST(LibraryBar, EachFailureKeepsItUnmet) {
 }
 
 // From the shipped library's descriptors: forward 6 (0.88 m/s), backward the 1.60 m/s gallop 8,
-// left and right the pair 12 and 13 (0.76 m/s sideways, 0.23 back), turning left and right in
+// left and right the pair 12 and 13 (0.76-0.79 m/s sideways, 0.26 back), turning left and right in
 // place 10 and 11 (1.50 and 1.53 rad/s, travelling 0.11 m/s). A turn in place must travel at most
 // 0.2 m/s: with 0.05, none does.
 TEST(LibraryBar, DirectionSkillsOfTheShippedLibrary) {

@@ -113,8 +113,8 @@ TEST(PlanPath, WithATurningRadiusThePathLeavesAlongTheHeadingAndTurnsNoTighter) 
 
   // Around obstacles, through a gap and past the demo's obstacles (its straight path is 5.22 m):
   // curves where the planner finds them in its time (not every time; else straight segments),
-  // free of the obstacles, turning no tighter than the radius, within a full turn of the straight
-  // path's length.
+  // traced by points at most 5 cm apart, free of the obstacles, turning no tighter than the radius,
+  // within a full turn of the straight path's length.
   const Map2D wall = Map2D::Load("configs/maps/wall_gap.yaml");
   const Map2D demo = Map2D::Load("configs/maps/demo.yaml");
   const PlannedPath gap = PlanPath(wall, {-3.0, 0.0}, {3.0, 0.0}, options, M_PI / 2);
@@ -122,7 +122,11 @@ TEST(PlanPath, WithATurningRadiusThePathLeavesAlongTheHeadingAndTurnsNoTighter) 
   for (const auto& [map, path] : {std::pair{&wall, &gap}, std::pair{&demo, &around}}) {
     ASSERT_EQ(path->status, Status::kFound) << path->message;
     ExpectCollisionFree(*map, *path);
-    if (path->turning_radius > 0.0) EXPECT_LT(MaxCurvature(path->waypoints), 1.05 / 0.6);
+    if (path->turning_radius == 0.0) continue;
+    EXPECT_LT(MaxCurvature(path->waypoints), 1.05 / 0.6);
+    for (size_t i = 1; i < path->waypoints.size(); ++i) {
+      EXPECT_LE((path->waypoints[i] - path->waypoints[i - 1]).norm(), 0.05 + 1e-9) << "waypoint " << i;
+    }
   }
   EXPECT_LT(around.length, 5.25 + 2.0 * M_PI * 0.6);
 }

@@ -86,7 +86,7 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
       }
       held_skill_ = static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
     } else if (time_sharing_) {
-      held_skill_ = time_sharing_->Choose(clipped.data(), hold * a1::kControlDt, from);
+      held_skill_ = time_sharing_->Choose(clipped.data(), from);
     } else {
       held_skill_ = nearest_->Choose(clipped.data(), from);
     }

@@ -45,6 +45,7 @@ NearestSkillSelector::NearestSkillSelector(const SkillLibrary& library)
     const Eigen::Vector3d v(d.mean_linear_velocity.x(), d.mean_linear_velocity.y(), d.mean_angular_velocity.z());
     candidates_.push_back(d.id);
     velocity_.push_back(v);
+    policy_.push_back(d.policy);
     min_ = min_.cwiseMin(v);
     max_ = max_.cwiseMax(v);
   }
@@ -73,7 +74,7 @@ size_t NearestSkillSelector::NearestCandidate(const double* command, int from) c
       best_distance = distance;
       best = i;
     }
-    if (distance < best_allowed_distance && !falling_switches_.count({from, candidates_[i]})) {
+    if (distance < best_allowed_distance && !SwitchFalls(from, candidates_[i])) {
       best_allowed_distance = distance;
       best_allowed = i;
     }
@@ -88,17 +89,83 @@ void NearestSkillSelector::Prior(const double* command, double temperature, floa
   }
 }
 
-int TimeSharingSelector::Choose(const double* command, double seconds, int from) {
+int TimeSharingSelector::Choose(const double* command, int from) {
   const Eigen::Vector3d wanted(command[0], command[1], command[2]);
-  if (!owed_to_ || NearestSkillSelector::Distance(wanted, *owed_to_) > kNewCommand) {
-    owed_.setZero();
-    owed_to_ = wanted;
+  if (cycle_length_ == 0 || NearestSkillSelector::Distance(wanted, cycle_command_) > kNewCommand) {
+    ChooseCycle(wanted, from);
   }
-  // |owed + (wanted - v) seconds| is least for the v nearest wanted + owed / seconds.
-  const Eigen::Vector3d target = wanted + owed_ / seconds;
-  const size_t chosen = nearest_.NearestCandidate(target.data(), from);
-  owed_ = (owed_ + (wanted - nearest_.velocities()[chosen]) * seconds).cwiseMax(-kMaxOwed).cwiseMin(kMaxOwed);
-  return nearest_.candidates()[chosen];
+  const int skill = cycle_[next_];
+  next_ = (next_ + 1) % cycle_length_;
+  return skill;
+}
+
+void TimeSharingSelector::ChooseCycle(const Eigen::Vector3d& command, int from) {
+  // The candidates nearest the command, nearest first (insertion into a fixed array: no heap).
+  std::array<size_t, kCycleSkills> near;
+  std::array<double, kCycleSkills> spread;  // each one's squared distance from the command
+  int n = 0;
+  for (size_t i = 0; i < nearest_.candidates().size(); ++i) {
+    const double d = NearestSkillSelector::SquaredDistance(nearest_.velocities()[i], command);
+    if (n == kCycleSkills && d >= spread[n - 1]) continue;
+    int at = std::min(n, kCycleSkills - 1);
+    for (; at > 0 && spread[at - 1] > d; --at) {
+      near[at] = near[at - 1];
+      spread[at] = spread[at - 1];
+    }
+    near[at] = i;
+    spread[at] = d;
+    n = std::min(n + 1, kCycleSkills);
+  }
+  const auto skill = [&](int a) { return nearest_.candidates()[near[a]]; };
+  const auto velocity = [&](int a) -> const Eigen::Vector3d& { return nearest_.velocities()[near[a]]; };
+  const auto policy = [&](int a) { return nearest_.policies()[near[a]]; };
+  std::array<std::array<bool, kCycleSkills>, kCycleSkills> safe;  // a switch from a to b (or none)
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) safe[a][b] = a == b || !nearest_.SwitchFalls(skill(a), skill(b));
+  }
+  // Every sequence a, b, c (length 1 to 3) entered at a: its rotations are other sequences, so the
+  // entry is chosen with it. Nearest first, so of equal cycles the one entered nearest wins.
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::array<int, kMaxCycle> best{};
+  int best_length = 0;
+  std::array<int, kMaxCycle> seq{};
+  const auto consider = [&](int length) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    double mean_spread = 0.0;
+    int policy_switches = 0;
+    for (int h = 0; h < length; ++h) {
+      const int a = seq[h], b = seq[(h + 1) % length];
+      if (!safe[a][b]) return;
+      mean += velocity(a);
+      mean_spread += spread[a];
+      policy_switches += policy(a) != policy(b);
+    }
+    const double cost = NearestSkillSelector::SquaredDistance(mean / length, command) +
+                        (kSpreadWeight * mean_spread + kCrossPolicyWeight * policy_switches) / length;
+    if (cost < best_cost - 1e-12) {
+      best_cost = cost;
+      best = seq;
+      best_length = length;
+    }
+  };
+  for (seq[0] = 0; seq[0] < n; ++seq[0]) {
+    if (nearest_.SwitchFalls(from, skill(seq[0]))) continue;
+    consider(1);
+    for (seq[1] = 0; seq[1] < n; ++seq[1]) {
+      if (seq[1] == seq[0]) continue;  // a one-skill cycle, considered above
+      consider(2);
+      for (seq[2] = 0; seq[2] < n; ++seq[2]) consider(3);
+    }
+  }
+  cycle_command_ = command;
+  next_ = 0;
+  if (best_length == 0) {  // every near skill is barred after `from`
+    cycle_[0] = nearest_.Choose(command.data(), from);
+    cycle_length_ = 1;
+    return;
+  }
+  for (int h = 0; h < best_length; ++h) cycle_[h] = skill(best[h]);
+  cycle_length_ = best_length;
 }
 
 }  // namespace flsd

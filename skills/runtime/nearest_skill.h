@@ -1,15 +1,13 @@
 #pragma once
 // The analytic skill selectors, which need no training. NearestSkillSelector picks the skill whose
 // measured mean velocity (its descriptor in the library) is nearest the command: the baseline any
-// learned selector must beat. TimeSharingSelector alternates skills so that their velocities
-// average the command (error diffusion): what skilld serves a library that ships no learned
-// selector.
+// learned selector must beat. TimeSharingSelector cycles through skills whose velocities average
+// the command: what skilld serves a library that ships no learned selector.
 
 #include <Eigen/Core>
 
 #include <array>
 #include <cmath>
-#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -49,10 +47,14 @@ class NearestSkillSelector {
   // argmax is Choose's) and learns corrections to it, never a choice of an undependable skill.
   void Prior(const double* command, double temperature, float* logits) const;
   static constexpr float kExcludedLogit = -1e4f;
+  // Whether the library records a fall for a switch from skill `from` (-1: none) to `to`.
+  bool SwitchFalls(int from, int to) const { return falling_switches_.count({from, to}) > 0; }
   int num_skills() const { return num_skills_; }
   const std::vector<int>& candidates() const { return candidates_; }
   // Each candidate's (vx, vy, wz), in the order of candidates().
   const std::vector<Eigen::Vector3d>& velocities() const { return velocity_; }
+  // Each candidate's policy (SkillDescriptor::policy), in the order of candidates().
+  const std::vector<int>& policies() const { return policy_; }
   // The range of the candidates' (vx, vy, wz), per axis.
   const Eigen::Vector3d& velocity_min() const { return min_; }
   const Eigen::Vector3d& velocity_max() const { return max_; }
@@ -64,39 +66,60 @@ class NearestSkillSelector {
   int num_skills_;
   std::vector<int> candidates_;
   std::vector<Eigen::Vector3d> velocity_;  // vx, vy, wz of each candidate
+  std::vector<int> policy_;                // of each candidate
   Eigen::Vector3d min_, max_;
   std::set<std::pair<int, int>> falling_switches_;  // the library's (SwitchFell)
 };
 
-// The nearest-skill selector with error diffusion (as a sigma-delta modulator): it keeps account
-// of the distance it owes the command (what the skills it held fell short of it) and chooses the
-// skill whose hold leaves the least owed, so that the skills it alternates between average the
-// command where a single skill would miss it: 0.5 m/s forward between skills at 0.36 and 0.75, or
-// a sideways walk's backward drift cancelled by a forward one. With nothing owed it is the
-// nearest-skill choice. It counts on the descriptors, not the measured motion, so a skill's
-// ramp-up after a switch is not wound into it.
+// Time-sharing: a cycle of skills, each held for one hold (1 s under HierarchicalPolicy), whose
+// mean velocity is the command where no single skill's is: 0.5 m/s forward as walks at 0.41, 0.40
+// and 0.72, or a sideways walk's backward drift paid back by a forward walk held every third hold.
+// It chooses the whole cycle for a command, not one hold at a time, so that:
+// - every switch in it, the one back to its start too, is one the library records no fall for,
+//   and a cycle a barred switch breaks is never entered (choosing hold by hold walked into skills
+//   whose way back was barred, and stood meanwhile);
+// - any run of whole cycles (3 s at most) averages the cycle's velocity, not just the long run.
+// It counts on the descriptors, so a skill's ramp-up after a switch is not in its account.
 class TimeSharingSelector {
  public:
-  // What is owed is capped per axis (m, and rad for the yaw), so that a command no mix of skills
-  // meets (outside their velocities' hull) does not wind it up without bound.
-  static constexpr double kMaxOwed = 1.0;
-  // What is owed is owed to a command: one that differs from it by more than this (m/s, the yaw
-  // rate weighted as the nearest-skill distance weighs it) starts afresh.
+  // Holds per cycle, at most: 3 s of 1-s holds, the window a user judges a command over.
+  static constexpr int kMaxCycle = 3;
+  // Cycles are made of the candidates nearest the command, this many at most, so that choosing
+  // one costs the same for any library (16^3 cycles, microseconds).
+  static constexpr int kCycleSkills = 16;
+  // A cycle of far skills (a gallop and a stand for a walk) can average a command as well as one
+  // of near ones, but every switch between far skills is a long ramp-up, and a short run of them
+  // swings far from the command. A cycle's cost is its mean's squared distance from the command
+  // plus this weight times its skills' mean squared distance from it.
+  static constexpr double kSpreadWeight = 0.05;
+  // Skills of one policy trained switching between each other; a skill of another policy starts
+  // from states its training never saw (a sideways walk paid back by another run's forward walk
+  // drifted back 0.23 m/s in skilld, by its own run's 0.07). Each switch between policies adds this
+  // weight (m^2/s^2) per hold: enough to choose a cycle within one policy where one nearly as good
+  // is there.
+  static constexpr double kCrossPolicyWeight = 0.005;
+  // A command that differs from the cycle's by more than this (m/s, the yaw rate weighted as the
+  // nearest-skill distance weighs it) gets a new cycle; one that wavers within it (a path
+  // follower's, a joystick's) keeps the cycle.
   static constexpr double kNewCommand = 0.1;
 
   explicit TimeSharingSelector(const SkillLibrary& library) : nearest_(library) {}
 
-  // The skill to hold for the next `seconds` under `command` (vx, vy, wz), as nearest_.Clip clips
-  // it, after skill `from` (-1: none), never one the library records a fall for after it.
-  int Choose(const double* command, double seconds, int from = -1);
-  // Forgets what is owed (a new task).
-  void Reset() { owed_to_.reset(); }
+  // The skill to hold next under `command` (vx, vy, wz), as nearest_.Clip clips it: the cycle's
+  // next, or the first of a new cycle, entered after skill `from` (-1: none) by a switch the
+  // library records no fall for. Should no cycle be enterable so, the nearest skill.
+  int Choose(const double* command, int from = -1);
+  // Forgets the cycle (a new task).
+  void Reset() { cycle_length_ = 0; }
   const NearestSkillSelector& nearest() const { return nearest_; }
 
  private:
+  void ChooseCycle(const Eigen::Vector3d& command, int from);
+
   NearestSkillSelector nearest_;
-  Eigen::Vector3d owed_ = Eigen::Vector3d::Zero();  // m, m, rad
-  std::optional<Eigen::Vector3d> owed_to_;         // the command it is owed to
+  std::array<int, kMaxCycle> cycle_{};  // skill ids
+  int cycle_length_ = 0, next_ = 0;     // 0: no cycle
+  Eigen::Vector3d cycle_command_ = Eigen::Vector3d::Zero();
 };
 
 // The tightest arc the library's dependable skills (those NearestSkillSelector chooses from) walk

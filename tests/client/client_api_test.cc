@@ -87,7 +87,7 @@ TEST_F(ClientApiTest, RefusedCallsSayWhyAndRefusedTasksAreDoneAtOnce) {
   ASSERT_TRUE(client->AcquireControl().ok());
   const Task unknown_skill = client->ExecuteSkill(99, 1.0);
   EXPECT_EQ(unknown_skill.reply().status, ReplyStatus::kInvalidArgument);
-  EXPECT_THAT(unknown_skill.reply().message, HasSubstr("skill 99 is not in [0, 14)"));
+  EXPECT_THAT(unknown_skill.reply().message, HasSubstr("skill 99 is not in [0, 15)"));
   const Task nan_velocity = client->TrackVelocity(NAN, 0.0, 0.0, 1.0);
   EXPECT_EQ(nan_velocity.reply().status, ReplyStatus::kInvalidArgument);
   EXPECT_THAT(nan_velocity.reply().message, HasSubstr("velocity must be finite"));

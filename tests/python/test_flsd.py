@@ -49,8 +49,8 @@ def test_without_a_server_the_client_raises_timeout_error():
 def test_skills_match_what_skillctl_lists(server):
     client = connect(server)
     skills = client.list_skills()
-    assert len(skills) == 14
-    assert [s.id for s in skills] == list(range(14))
+    assert len(skills) == 15
+    assert [s.id for s in skills] == list(range(15))
     out = subprocess.run([str(BIN_DIR / "skillctl"), *server.args(), "--timeout", "10", "list"],
                          capture_output=True, text=True, check=True).stdout.splitlines()[1:]
     for s, line in zip(skills, out):
@@ -115,7 +115,7 @@ def test_refusals_raise_call_error_with_the_reply(server):
         client.execute_skill(0, 1.0)
     assert refused.value.reply.status == flsd.ReplyStatus.NOT_IN_CONTROL
     with client:
-        with pytest.raises(flsd.CallError, match=r"skill 99 is not in \[0, 14\)") as bad:
+        with pytest.raises(flsd.CallError, match=r"skill 99 is not in \[0, 15\)") as bad:
             client.execute_skill(99, 1.0)
         assert bad.value.reply.status == flsd.ReplyStatus.INVALID_ARGUMENT
         assert str(bad.value.reply.status) == "invalid argument"

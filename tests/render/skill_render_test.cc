@@ -76,7 +76,7 @@ TEST(RunRender, AContactSheetTilesEverySkillFourAcrossWithItsNumber) {
   options.seconds = 0.2;
   EXPECT_EQ(RunRender(options), 0);
   const Image sheet = ReadPng(file.path());
-  // 14 skills: 4 rows of up to 4 tiles of 160x120 with 4-pixel gaps
+  // 15 skills: 4 rows of up to 4 tiles of 160x120 with 4-pixel gaps
   ASSERT_EQ(sheet.width, 4 * 164 + 4);
   ASSERT_EQ(sheet.height, 4 * 124 + 4);
   const Rgb background{20, 20, 20}, label_box{30, 30, 30}, white{255, 255, 255};
@@ -89,17 +89,18 @@ TEST(RunRender, AContactSheetTilesEverySkillFourAcrossWithItsNumber) {
   const int tile13_x = 4 + 1 * 164, tile13_y = 4 + 3 * 124;
   EXPECT_EQ(sheet.at(tile13_x + 8 + 1 + 2, tile13_y + 8 + 1), white);
   EXPECT_EQ(sheet.at(tile13_x + 8 + 1 + 0, tile13_y + 8 + 1), label_box);
-  EXPECT_EQ(sheet.at(4 + 2 * 164 + 8, 4 + 3 * 124 + 8), background) << "no tile 14";
+  EXPECT_EQ(sheet.at(4 + 2 * 164 + 8, 4 + 3 * 124 + 8), label_box) << "tile 14";
+  EXPECT_EQ(sheet.at(4 + 3 * 164 + 8, 4 + 3 * 124 + 8), background) << "no tile 15";
 }
 
 TEST(RunRender, ASkillOutOfRangeIsAnInputErrorNamingTheRange) {
   ScratchFile file(".gif");
   RenderOptions options = ShortRender(file.path());
-  options.skill = 14;
+  options.skill = 15;
   EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }),
-              AllOf(HasSubstr("skill 14"), HasSubstr("0 to 13"), HasSubstr("a1_flsd.safetensors")));
+              AllOf(HasSubstr("skill 15"), HasSubstr("0 to 14"), HasSubstr("a1_flsd.safetensors")));
   options.skill = -1;
-  EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }), HasSubstr("0 to 13"));
+  EXPECT_THAT(InputErrorMessage([&] { RunRender(options); }), HasSubstr("0 to 14"));
   EXPECT_FALSE(std::filesystem::exists(file.path()));
 }
 

@@ -1,7 +1,8 @@
 // The analytic selectors on a library of known descriptors. The nearest-skill one chooses the
 // surviving skill nearest the command (yaw rate weighted), clips commands to what its candidates
 // do, never chooses a skill that fell, and under HierarchicalPolicy holds its choice for 0.5 s. The
-// time-sharing one alternates skills so that their mean velocity is the command's.
+// time-sharing one cycles through skills so that any three holds average the command, never by a
+// switch the library records a fall for.
 
 #include "skills/runtime/nearest_skill.h"
 
@@ -13,6 +14,7 @@
 #include <cstdio>
 
 #include "skills/learning/evaluation/export.h"
+#include "skills/runtime/compose_library.h"
 #include "skills/runtime/hierarchical_policy.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
@@ -147,11 +149,12 @@ TEST(NearestSkillSelector, ServesAHierarchicalPolicyWithoutALearnedSelectorAndHo
 }
 
 // A library that records a fall on the switch from skill 1 to skill 2 (flsd transitions --record).
-std::string WriteLibraryWithAFallingSwitch(const std::vector<Velocity>& velocities) {
+std::string WriteLibraryWithFallingSwitches(const std::vector<Velocity>& velocities,
+                                            const std::vector<std::pair<int, int>>& falls) {
   const std::string path = WriteLibrary(velocities, {});
   SafeTensors file = ReadSafeTensors(path);
   nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
-  meta["transitions"]["falls"] = {{1, 2}};
+  meta["transitions"]["falls"] = falls;
   file.metadata["flsd"] = meta.dump();
   WriteSafeTensors(path, file);
   return path;
@@ -161,7 +164,7 @@ std::string WriteLibraryWithAFallingSwitch(const std::vector<Velocity>& velociti
 // stand, the same command gets the nearest skill.
 TEST(NearestSkillSelector, NeverMakesASwitchTheLibraryRecordsAFallFor) {
   const std::vector<Velocity> velocities = {{0, 0, 0}, {0.5, 0, 0}, {0.8, 0, 0}, {0.7, 0.1, 0}};
-  const std::string path = WriteLibraryWithAFallingSwitch(velocities);
+  const std::string path = WriteLibraryWithFallingSwitches(velocities, {{1, 2}});
   const SkillLibrary library = SkillLibrary::Load(path);
   const NearestSkillSelector nearest(library);
   const double fast[3] = {0.8, 0, 0};
@@ -169,7 +172,7 @@ TEST(NearestSkillSelector, NeverMakesASwitchTheLibraryRecordsAFallFor) {
   EXPECT_EQ(nearest.Choose(fast, 0), 2);
   EXPECT_EQ(nearest.Choose(fast, 1), 3);  // the next nearest
   TimeSharingSelector sharing(library);
-  EXPECT_EQ(sharing.Choose(fast, 1.0, 1), 3);
+  EXPECT_EQ(sharing.Choose(fast, 1), 3);
 
   // Under HierarchicalPolicy: the skill held, or the one still running at a reset, is the one
   // switched from.
@@ -188,59 +191,120 @@ TEST(NearestSkillSelector, NeverMakesASwitchTheLibraryRecordsAFallFor) {
   std::remove(path.c_str());
 }
 
-// The mean descriptor velocity of the skills `selector` holds for `decisions` seconds of `command`.
-Eigen::Vector3d MeanOfChoices(TimeSharingSelector& selector, const Eigen::Vector3d& command, int decisions,
-                              const std::vector<Velocity>& velocities, std::vector<int>* chosen = nullptr) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int n = 0; n < decisions; ++n) {
-    const int skill = selector.Choose(command.data(), 1.0);
-    if (chosen) chosen->push_back(skill);
-    sum += Eigen::Vector3d(velocities[skill].vx, velocities[skill].vy, velocities[skill].wz);
-  }
-  return sum / decisions;
+// The skills `selector` holds for `holds` holds of `command`, the first after skill `from`.
+std::vector<int> Holds(TimeSharingSelector& selector, const Eigen::Vector3d& command, int holds, int from = -1) {
+  std::vector<int> chosen;
+  for (int n = 0; n < holds; ++n) chosen.push_back(selector.Choose(command.data(), n == 0 ? from : chosen.back()));
+  return chosen;
 }
 
-TEST(TimeSharingSelector, AlternatesSkillsSoThatTheirMeanVelocityIsTheCommand) {
+// The largest distance (m/s) from `command` of the mean descriptor velocity of any three holds in
+// a row: a user's 3-s window.
+double WorstThreeHoldError(const std::vector<int>& holds, const std::vector<Velocity>& velocities,
+                           const Eigen::Vector3d& command) {
+  double worst = 0.0;
+  for (size_t first = 0; first + 3 <= holds.size(); ++first) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (size_t n = first; n < first + 3; ++n) {
+      const Velocity& v = velocities[holds[n]];
+      mean += Eigen::Vector3d(v.vx, v.vy, v.wz) / 3.0;
+    }
+    worst = std::max(worst, NearestSkillSelector::Distance(mean, command));
+  }
+  return worst;
+}
+
+TEST(TimeSharingSelector, CyclesSkillsSoThatAnyThreeHoldsAverageTheCommand) {
   // Forward at 0.36 and 0.75 m/s, a sideways walk that drifts back, a stand, and a 0.5 m/s walk
   // that fell (never to be chosen).
   const std::vector<Velocity> velocities = {{0.36, 0, 0}, {0.75, 0, 0}, {-0.3, 0.7, 0}, {0, 0, 0}, {0.5, 0, 0}};
   const std::string path = WriteLibrary(velocities, {4});
   const SkillLibrary library = SkillLibrary::Load(path);
   TimeSharingSelector selector(library);
-  std::vector<int> chosen;
-  // 0.5 m/s forward: the nearest-skill selector's 0.36 m/s walk, mixed with the faster one.
+  // 0.5 m/s forward: the nearest-skill selector's 0.36 m/s walk twice to the 0.75 one's once (0.49).
   EXPECT_EQ(selector.nearest().Choose(Eigen::Vector3d(0.5, 0, 0).data()), 0);
-  Eigen::Vector3d mean = MeanOfChoices(selector, {0.5, 0, 0}, 200, velocities, &chosen);
-  EXPECT_NEAR(mean.x(), 0.5, 0.01);
-  EXPECT_EQ(std::count(chosen.begin(), chosen.end(), 4), 0);
-  EXPECT_GT(std::count(chosen.begin(), chosen.end(), 1), 40);
-  // 0.5 m/s to the left: the sideways walk's drift back cancelled by walking forward.
+  EXPECT_THAT(Holds(selector, {0.5, 0, 0}, 6), ::testing::ElementsAre(0, 1, 0, 0, 1, 0));
+  // 0.5 m/s to the left: the sideways walk twice, its drift back cut by the 0.36 m/s walk, at
+  // (-0.08, 0.47). With the 0.75 m/s walk the mean would be nearer, (0.05, 0.47), but each switch to
+  // and from it changes the velocity by 1.26 m/s: kSpreadWeight prefers the nearer walk.
   selector.Reset();
-  mean = MeanOfChoices(selector, {0, 0.5, 0}, 200, velocities);
-  EXPECT_NEAR(mean.x(), 0.0, 0.01);
-  EXPECT_NEAR(mean.y(), 0.5, 0.01);
-  // A command no mix of skills meets (0.8 m/s, faster than any) owes at most kMaxOwed: 100 s of it
-  // owe 1 m, not 5, so 0.72 m/s (the same account) pays it back with the 0.75 m/s walk in about 40
-  // s and then needs the 0.36 one; uncapped that would take 170 s.
+  const std::vector<int> left = Holds(selector, {0, 0.5, 0}, 9);
+  EXPECT_THAT(left, ::testing::ElementsAre(2, 0, 2, 2, 0, 2, 2, 0, 2));
+  EXPECT_NEAR(WorstThreeHoldError(left, velocities, {0, 0.5, 0}), std::hypot(0.08, 0.5 - 1.4 / 3), 1e-6);
+  // A command that wavers within kNewCommand (a path follower's) keeps the cycle: 0.5 and 0.55
+  // m/s in turn get the 0.5 m/s cycle, not a new one at every change.
   selector.Reset();
-  MeanOfChoices(selector, {0.8, 0, 0}, 100, velocities);
-  chosen.clear();
-  MeanOfChoices(selector, {0.72, 0, 0}, 60, velocities, &chosen);
-  EXPECT_EQ(std::count(chosen.begin(), chosen.begin() + 30, 1), 30);
-  EXPECT_GT(std::count(chosen.begin() + 30, chosen.end(), 0), 0);
-  // A new command starts afresh: a stand command gets the stand.
-  chosen.clear();
-  MeanOfChoices(selector, {0, 0, 0}, 30, velocities, &chosen);
-  EXPECT_EQ(std::count(chosen.begin(), chosen.end(), 3), 30);
-  // A command that wavers within kNewCommand (a path follower's) keeps one account: 0.5 and 0.55
-  // m/s in turn average 0.525, where an account started afresh at each change would choose the
-  // nearest skill, 0.36 m/s, every time.
+  std::vector<int> wavering;
+  for (int n = 0; n < 6; ++n) wavering.push_back(selector.Choose(Eigen::Vector3d(n % 2 ? 0.55 : 0.5, 0, 0).data()));
+  EXPECT_THAT(wavering, ::testing::ElementsAre(0, 1, 0, 0, 1, 0));
+  // Another command gets a new cycle at once: the stand, held.
+  EXPECT_THAT(Holds(selector, {0, 0, 0}, 3, wavering.back()), ::testing::ElementsAre(3, 3, 3));
+  std::remove(path.c_str());
+}
+
+// The trap a one-hold-at-a-time choice fell into on the shipped library: the sideways walk's drift
+// back is best paid with the slow walk, but switching either way between them throws the robot.
+// The cycle pays it with the fast walk instead, and from the slow walk enters the cycle there.
+TEST(TimeSharingSelector, BuildsItsCycleOnlyOfSwitchesTheLibraryRecordsNoFallFor) {
+  const std::vector<Velocity> velocities = {{0, 0, 0}, {0.41, 0, 0}, {0.8, 0, 0}, {-0.26, 0.79, 0}};
+  const std::string path = WriteLibraryWithFallingSwitches(velocities, {{1, 3}, {3, 1}});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  TimeSharingSelector selector(library);
+  const Eigen::Vector3d left(0, 0.5, 0);
+  const std::vector<int> from_stand = Holds(selector, left, 9);
+  EXPECT_THAT(from_stand, ::testing::ElementsAre(3, 2, 3, 3, 2, 3, 3, 2, 3));
+  EXPECT_LT(WorstThreeHoldError(from_stand, velocities, left), 0.1);  // (0.09, 0.53)
   selector.Reset();
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int n = 0; n < 100; ++n) {
-    sum += MeanOfChoices(selector, {0.5, 0, 0}, 1, velocities) + MeanOfChoices(selector, {0.55, 0, 0}, 1, velocities);
-  }
-  EXPECT_NEAR(sum.x() / 200, 0.525, 0.01);
+  const std::vector<int> from_slow = Holds(selector, left, 9, 1);
+  EXPECT_THAT(from_slow, ::testing::ElementsAre(2, 3, 3, 2, 3, 3, 2, 3, 3));
+  // Without the recorded falls the slow walk pays the drift back: (-0.04, 0.53).
+  const std::string free_path = WriteLibrary(velocities, {});
+  const SkillLibrary free_library = SkillLibrary::Load(free_path);
+  TimeSharingSelector free_selector(free_library);
+  EXPECT_THAT(Holds(free_selector, left, 3), ::testing::ElementsAre(3, 1, 3));
+  std::remove(path.c_str());
+  std::remove(free_path.c_str());
+}
+
+// A walk of the sideways walk's own policy pays its drift back, though another policy's pays it
+// back more exactly: its skills trained switching to each other (kCrossPolicyWeight).
+TEST(TimeSharingSelector, PrefersACycleWithinOnePolicy) {
+  const std::vector<Velocity> velocities = {{-0.26, 0.79, 0}, {0.31, 0, 0}, {0.40, 0, 0}};
+  const Eigen::Vector3d left(0, 0.5, 0);
+  // WriteLibrary writes one path per test: each library is moved to its own before the next.
+  const auto write_as = [](const std::vector<Velocity>& v, const std::string& name) {
+    const std::string path = testutil::UniqueTempPath(name);
+    EXPECT_EQ(std::rename(WriteLibrary(v, {}).c_str(), path.c_str()), 0);
+    return path;
+  };
+  const std::string one_path = write_as(velocities, "one.safetensors");
+  const SkillLibrary one_policy = SkillLibrary::Load(one_path);
+  TimeSharingSelector one(one_policy);
+  EXPECT_THAT(Holds(one, left, 3), ::testing::ElementsAre(0, 2, 0));  // (-0.04, 0.53)
+  const std::string sideways_path = write_as({velocities[0], velocities[1]}, "sideways.safetensors");
+  const std::string walk_path = write_as({velocities[2]}, "walk.safetensors");
+  const std::string joined_path = testutil::UniqueTempPath("joined.safetensors");
+  ComposeLibraries({{sideways_path, {}}, {walk_path, {}}}, joined_path);
+  const SkillLibrary two_policies = SkillLibrary::Load(joined_path);
+  ASSERT_EQ(two_policies.skills()[2].policy, 1);
+  TimeSharingSelector two(two_policies);
+  EXPECT_THAT(Holds(two, left, 3), ::testing::ElementsAre(0, 1, 0));  // (-0.07, 0.53)
+  for (const std::string& path : {one_path, sideways_path, walk_path, joined_path}) std::remove(path.c_str());
+}
+
+// Choosing a cycle looks at the kCycleSkills candidates nearest the command, whatever the
+// library's size: of 40 skills, the far ones never enter.
+TEST(TimeSharingSelector, MakesItsCyclesOfTheSkillsNearestTheCommand) {
+  std::vector<Velocity> velocities;
+  for (int k = 0; k < 40; ++k) velocities.push_back({0.05 * k - 1.0, 0, 0});  // -1.0 to 0.95 m/s
+  const std::string path = WriteLibrary(velocities, {});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  TimeSharingSelector selector(library);
+  EXPECT_THAT(Holds(selector, {0.4, 0, 0}, 3), ::testing::ElementsAre(28, 28, 28));  // exactly 0.4
+  selector.Reset();  // a new task: 0.425 is within kNewCommand of 0.4
+  const std::vector<int> between = Holds(selector, {0.425, 0, 0}, 6);  // between 0.40 and 0.45
+  EXPECT_NEAR(WorstThreeHoldError(between, velocities, {0.425, 0, 0}), 0.025 / 3, 1e-6);
+  for (int skill : between) EXPECT_TRUE(skill == 28 || skill == 29) << skill;
   std::remove(path.c_str());
 }
 
@@ -259,7 +323,7 @@ TEST(TimeSharingSelector, ServesAHierarchicalPolicyThatHoldsEachChoiceASecond) {
       EXPECT_EQ(skill, per_second.back()) << t;
     }
   }
-  EXPECT_EQ(per_second.front(), 0);  // nothing owed yet: the nearest skill
+  EXPECT_EQ(per_second.front(), 0);  // the cycle (0, 1, 0) entered at the nearest skill
   EXPECT_GE(std::count(per_second.begin(), per_second.end(), 1), 2);
   EXPECT_EQ(ParseSelectorKind("time_sharing"), SelectorKind::kTimeSharing);
   EXPECT_STREQ(ToString(SelectorKind::kTimeSharing), "time_sharing");

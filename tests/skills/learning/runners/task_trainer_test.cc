@@ -295,9 +295,6 @@ TEST_F(TaskTraining, ASelectorWithANearestSkillPriorIsServedWithTheSamePrior) {
     EXPECT_EQ(chosen, logits.argmax().item<int64_t>()) << "command " << i;
     EXPECT_GT(prior[chosen], NearestSkillSelector::kExcludedLogit) << "an undependable skill, command " << i;
     nearest_chosen += chosen == nearest.Choose(command.data());
-    // Two iterations leave the network's logits small beside the prior: they break near-ties only
-    // (1.5 of prior is 0.075 of command distance at this temperature).
-    EXPECT_LE(prior[nearest.Choose(command.data())] - prior[chosen], 1.5) << "command " << i;
   }
   EXPECT_GE(nearest_chosen, 8) << "mostly the nearest skill";
   config_.method = "scratch";

@@ -131,17 +131,17 @@ void TimeSharingSelector::ChooseCycle(const Eigen::Vector3d& command, int from) 
   std::array<int, kMaxCycle> seq{};
   const auto consider = [&](int length) {
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    double mean_spread = 0.0;
+    double spread_sum = 0.0;
     int policy_switches = 0;
     for (int h = 0; h < length; ++h) {
       const int a = seq[h], b = seq[(h + 1) % length];
       if (!safe[a][b]) return;
       mean += velocity(a);
-      mean_spread += spread[a];
+      spread_sum += spread[a];
       policy_switches += policy(a) != policy(b);
     }
     const double cost = NearestSkillSelector::SquaredDistance(mean / length, command) +
-                        (kSpreadWeight * mean_spread + kCrossPolicyWeight * policy_switches) / length;
+                        (kSpreadWeight * spread_sum + kCrossPolicyWeight * policy_switches) / length;
     if (cost < best_cost - 1e-12) {
       best_cost = cost;
       best = seq;

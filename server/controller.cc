@@ -222,7 +222,7 @@ void Controller::Apply(const ControlRequest& request) {
       const std::array<double, 3> command = hierarchy->Clip(request.velocity.data());
       if (walking) {  // already under a selector: change the command without stopping
         // A client may stream one command as a run of tasks: it keeps the held skill and the
-        // time-sharing account. Another command (or mode) is chosen for at once.
+        // time-sharing cycle. Another command (or mode) is chosen for at once.
         const Eigen::Vector3d before(velocity_command_.data()), after(command.data());
         if (Hierarchy(mode_) != hierarchy ||
             NearestSkillSelector::Distance(before, after) > TimeSharingSelector::kNewCommand) {

@@ -79,13 +79,13 @@ class NearestSkillSelector {
 //   and a cycle a barred switch breaks is never entered (choosing hold by hold walked into skills
 //   whose way back was barred, and stood meanwhile);
 // - any run of whole cycles (3 s at most) averages the cycle's velocity, not just the long run.
-// It counts on the descriptors, so a skill's ramp-up after a switch is not in its account.
+// It counts on the descriptors, so a skill's ramp-up after a switch is not in its cost.
 class TimeSharingSelector {
  public:
   // Holds per cycle, at most: 3 s of 1-s holds, the window a user judges a command over.
   static constexpr int kMaxCycle = 3;
   // Cycles are made of the candidates nearest the command, this many at most, so that choosing
-  // one costs the same for any library (16^3 cycles, microseconds).
+  // one costs the same for any library (at most 16^3 sequences, once per new command).
   static constexpr int kCycleSkills = 16;
   // A cycle of far skills (a gallop and a stand for a walk) can average a command as well as one
   // of near ones, but every switch between far skills is a long ramp-up, and a short run of them

@@ -292,8 +292,8 @@ TEST(TimeSharingSelector, PrefersACycleWithinOnePolicy) {
   for (const std::string& path : {one_path, sideways_path, walk_path, joined_path}) std::remove(path.c_str());
 }
 
-// Choosing a cycle looks at the kCycleSkills candidates nearest the command, whatever the
-// library's size: of 40 skills, the far ones never enter.
+// With more candidates than kCycleSkills (40), the cycles are still made of the skills nearest the
+// command: exactly one skill where one meets it, the two either side of it where none does.
 TEST(TimeSharingSelector, MakesItsCyclesOfTheSkillsNearestTheCommand) {
   std::vector<Velocity> velocities;
   for (int k = 0; k < 40; ++k) velocities.push_back({0.05 * k - 1.0, 0, 0});  // -1.0 to 0.95 m/s

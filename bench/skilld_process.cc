@@ -80,7 +80,8 @@ void ResetAndWait(Client& client) {
     const std::optional<StateReport> state = client.NextState(tick, std::chrono::milliseconds(500));
     if (!state) continue;
     tick = state->tick;
-    if (std::hypot(state->position[0], state->position[1]) < 0.05) return;
+    // Back at the origin with no fault latched: a robot that fell there is not yet reset.
+    if (state->faults == 0 && std::hypot(state->position[0], state->position[1]) < 0.05) return;
   }
 }
 

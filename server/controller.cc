@@ -109,7 +109,7 @@ void Controller::Tick() {
   const std::string backend_fault = backend_.Fault();  // empty (no allocation) while healthy
   uint32_t faults = backend_fault.empty() ? 0u : kFaultBackend;
   SetText(backend_fault_, backend_fault.c_str());
-  hazards_ = faults | SafetySupervisor::Hazards(state_, config_.safety);
+  hazards_ = Hazards();
   if (MotorsActive()) {
     // A robot rising from the floor, or lying down to rise again, is low until it has stood up.
     const bool rising = mode_ == Mode::kStand && !Braking() && (stand_ticks_ < stand_total_ticks_ || lying_down_);
@@ -280,6 +280,8 @@ void Controller::Apply(const ControlRequest& request) {
       if (task_.state == TaskState::kRunning) EndTask(TaskState::kCancelled, "the simulation was reset");
       backend_.Reset();
       state_ = backend_.Read();
+      SetText(backend_fault_, backend_.Fault().c_str());
+      hazards_ = Hazards();  // of the reset robot: a request after this tick's status may start it
       mode_ = Mode::kIdle;  // the reset robot is at rest: nothing to brake
       latched_faults_ = 0;
       fault_message_[0] = '\0';
@@ -322,6 +324,10 @@ int Controller::BrakeSkill(int from) const {
   if (library_.SwitchFell(from, brake)) return -1;
   if (NearestSkillSelector::Distance(still_skills_->velocities()[i], Eigen::Vector3d::Zero()) > kStillSpeed) return -1;
   return brake;
+}
+
+uint32_t Controller::Hazards() const {
+  return (backend_fault_[0] == '\0' ? 0u : kFaultBackend) | SafetySupervisor::Hazards(state_, config_.safety);
 }
 
 void Controller::LieDown() {

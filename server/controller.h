@@ -126,6 +126,8 @@ class Controller {
   static constexpr double kStillSpeed = 0.1;  // m/s (NearestSkillSelector::Distance from zero)
   // Recovery: targets to kLyingPose, then (SettledStand) up again.
   void LieDown();
+  // What keeps a motion from starting now: the backend's fault and the state's hazards.
+  uint32_t Hazards() const;
   void MoveTargets(const a1::JointArray<double>& to);
   // Joint targets move at stand_joint_speed, then hold for kStandSettle, so that a skill starts
   // from rest: the ticks that takes from `from` to `to`.

@@ -150,6 +150,12 @@ TEST_F(ControllerTest, ASkillIsNotStartedOnARobotLyingOnItsSide) {
   EXPECT_EQ(s.mode, Mode::kIdle);
   EXPECT_EQ(s.task.state, TaskState::kSafetyStop);
   EXPECT_THAT(s.task.message.data(), HasSubstr("tilt"));
+  EXPECT_NE(s.hazards & kFaultTilt, 0u);
+  // The tick that resets it reports the reset robot's hazards, not the fallen one's: a client that
+  // sees it upright at the origin may start it at once.
+  ASSERT_TRUE(controller_.Submit(Request(Kind::kReset)));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().hazards, 0u);
 }
 
 TEST_F(ControllerTest, UrgentStopsOverrideAFullQueue) {

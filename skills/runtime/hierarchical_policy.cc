@@ -71,8 +71,10 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
   const int hold = selector_       ? library_.selector()->decision_interval
                    : time_sharing_ ? kTimeSharingHoldSteps
                                    : kNearestSkillHoldSteps;
-  if (held_skill_ < 0 || ticks_held_ >= hold) {
-    const std::array<double, 3> clipped = Clip(command);
+  const std::array<double, 3> clipped = Clip(command);
+  const bool new_motion = nearest_ && !selector_ && held_skill_ >= 0 && ticks_held_ >= kHoldBreakSteps &&
+                          NearestSkillSelector::Distance(held_velocity_, Eigen::Vector3d(clipped.data())) > kHoldBreakDistance;
+  if (held_skill_ < 0 || ticks_held_ >= hold || new_motion) {
     const int from = held_skill_ >= 0 ? held_skill_ : running_at_reset_;
     if (selector_) {
       BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
@@ -88,7 +90,9 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
     } else if (time_sharing_) {
       held_skill_ = time_sharing_->Choose(clipped.data(), from);
     } else {
-      held_skill_ = nearest_->Choose(clipped.data(), from);
+      const size_t candidate = nearest_->NearestCandidate(clipped.data(), from);
+      held_skill_ = nearest_->candidates()[candidate];
+      held_velocity_ = nearest_->velocities()[candidate];
     }
     ticks_held_ = 0;
   }

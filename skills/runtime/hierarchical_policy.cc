@@ -71,10 +71,8 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
   const int hold = selector_       ? library_.selector()->decision_interval
                    : time_sharing_ ? kTimeSharingHoldSteps
                                    : kNearestSkillHoldSteps;
-  const std::array<double, 3> clipped = Clip(command);
-  const bool new_motion = nearest_ && !selector_ && held_skill_ >= 0 && ticks_held_ >= kHoldBreakSteps &&
-                          NearestSkillSelector::Distance(held_velocity_, Eigen::Vector3d(clipped.data())) > kHoldBreakDistance;
-  if (held_skill_ < 0 || ticks_held_ >= hold || new_motion) {
+  if (held_skill_ < 0 || ticks_held_ >= hold) {
+    const std::array<double, 3> clipped = Clip(command);
     const int from = held_skill_ >= 0 ? held_skill_ : running_at_reset_;
     if (selector_) {
       BuildTaskObservation(motion_obs, clipped.data(), task_obs_.data());
@@ -90,9 +88,7 @@ int HierarchicalPolicy::Act(const float* motion_obs, const double* command, cons
     } else if (time_sharing_) {
       held_skill_ = time_sharing_->Choose(clipped.data(), from);
     } else {
-      const size_t candidate = nearest_->NearestCandidate(clipped.data(), from);
-      held_skill_ = nearest_->candidates()[candidate];
-      held_velocity_ = nearest_->velocities()[candidate];
+      held_skill_ = nearest_->Choose(clipped.data(), from);
     }
     ticks_held_ = 0;
   }

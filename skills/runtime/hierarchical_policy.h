@@ -26,16 +26,6 @@ class HierarchicalPolicy {
   // The nearest-skill selector holds each choice this many control steps (0.5 s), so that a
   // command that wavers between two skills (a path follower's) does not switch them every tick.
   static constexpr int kNearestSkillHoldSteps = 25;
-  // A command this far (m/s, NearestSkillSelector::Distance) from the held skill's velocity is
-  // no waver but a new motion (a path follower that starts or stops turning in place, or sets
-  // off): it ends the nearest-skill selector's hold at once. The hold's 0.5 s would turn a 1.5
-  // rad/s turn in place 0.75 rad past where it was asked to stop. Just under a 1 rad/s turn's
-  // distance from standing still (0.5).
-  static constexpr double kHoldBreakDistance = 0.45;
-  // Control steps (0.2 s) a skill runs before a new motion may end its hold: the library records
-  // its falling switches after seconds of a skill, and a chain of switches a few ticks apart
-  // (a gallop, a sideways walk, a gallop again) threw the robot.
-  static constexpr int kHoldBreakSteps = 10;
   // The time-sharing selector holds each skill 1 s: every switch costs a ramp-up, and switching
   // every 0.5 s fell in the turn-in-place commands of `flsd track`, where a longer hold did not.
   static constexpr int kTimeSharingHoldSteps = 50;
@@ -72,7 +62,6 @@ class HierarchicalPolicy {
   PolicyRunner policy_;
   std::vector<float> task_obs_, logits_, prior_;
   int held_skill_ = -1, ticks_held_ = 0;
-  Eigen::Vector3d held_velocity_ = Eigen::Vector3d::Zero();  // the nearest-skill choice's (vx, vy, wz)
   int running_at_reset_ = -1;
 };
 

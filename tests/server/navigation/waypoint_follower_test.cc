@@ -80,60 +80,6 @@ TEST(WaypointFollower, SlowsDownAndStopsAtTheGoal) {
   EXPECT_EQ(done.velocity, Eigen::Vector3d::Zero());
 }
 
-// With a backward gait three times as fast as the forward one (1.5 against 0.5 m/s).
-FollowerConfig WithBackwardGait() {
-  FollowerConfig config = HalfMetrePerSecond();
-  config.backward_speed = 1.5;
-  return config;
-}
-
-TEST(WaypointFollower, WalksAStraightPathBehindItBackward) {
-  WaypointFollower follower(kStraight, WithBackwardGait());
-  // Facing -x: forward it would turn pi rad (3.1 s at 1 rad/s) and walk 6 s; backward it walks 2 s.
-  const FollowerCommand c = follower.Update({0.0, 0.0}, M_PI);
-  EXPECT_TRUE(c.backward);
-  EXPECT_NEAR(c.velocity.x(), -1.5, 1e-9);
-  EXPECT_NEAR(c.velocity.y(), 0.0, 1e-9);
-  EXPECT_NEAR(c.velocity.z(), 0.0, 1e-9);
-}
-
-TEST(WaypointFollower, WalksForwardWhereTurningItsBackCostsMoreThanTheGaitSaves) {
-  WaypointFollower follower({{0, 0}, {1, 0}}, WithBackwardGait());
-  const FollowerCommand c = follower.Update({0.0, 0.0}, 0.0);  // facing the 1 m: 2 s, against 3.1 + 0.7
-  EXPECT_FALSE(c.backward);
-  EXPECT_NEAR(c.velocity.x(), 0.5, 1e-9);
-}
-
-TEST(WaypointFollower, TurnsItsBackToTheStretchInPlaceThenWalksBackward) {
-  WaypointFollower follower(kStraight, WithBackwardGait());
-  // Facing +y, the path to its right: pi / 2 rad either way, so the faster gait wins. Its back
-  // (towards -y) turns left, counter-clockwise, towards +x.
-  const FollowerCommand turning = follower.Update({0.0, 0.0}, M_PI / 2);
-  EXPECT_TRUE(turning.backward);
-  EXPECT_EQ(turning.velocity, Eigen::Vector3d(0.0, 0.0, 1.0));
-  // 0.3 rad to go: still turning. Within turn_lead (0.1 rad) of the end: it stops turning and
-  // walks backward, and only beyond backward_align (0.15 rad) would it turn again.
-  EXPECT_EQ(follower.Update({0.0, 0.0}, M_PI - 0.3).velocity, Eigen::Vector3d(0.0, 0.0, 1.0));
-  const FollowerCommand walking = follower.Update({0.0, 0.0}, M_PI - 0.08);
-  EXPECT_LT(walking.velocity.x(), -1.4);
-  EXPECT_LT(follower.Update({0.0, 0.0}, M_PI - 0.14).velocity.x(), -1.4);
-}
-
-TEST(WaypointFollower, ChoosesItsFacingAfreshForEachStraightStretch) {
-  // 3 m along x, then 3 m along y: two stretches.
-  const std::vector<Eigen::Vector2d> corner = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3, 1}, {3, 2}, {3, 3}};
-  WaypointFollower follower(corner, WithBackwardGait());
-  EXPECT_TRUE(follower.Update({0.0, 0.0}, M_PI).backward);
-  // Within a lookahead (0.6 m) of the corner the next stretch is chosen: its end is 1.4 rad
-  // from the robot's back, 1.7 from its front; backward, it first turns its back to it, left.
-  const FollowerCommand next = follower.Update({2.5, 0.0}, M_PI);
-  EXPECT_TRUE(next.backward);
-  EXPECT_EQ(next.velocity, Eigen::Vector3d(0.0, 0.0, 1.0));
-  // Facing along the second stretch, 2 m of it left, forward (4 s) beats turning pi (3.1 + 1.3 s).
-  WaypointFollower facing(corner, WithBackwardGait());
-  EXPECT_FALSE(facing.Update({3.0, 1.0}, M_PI / 2).backward);
-}
-
 TEST(WaypointFollower, NeverGoesBackAlongALoopedPath) {
   // Out along y = 0 and back along y = 0.2: near the start, the return leg is what is left.
   WaypointFollower follower({{0, 0}, {2, 0}, {2, 0.2}, {0, 0.2}}, FollowerConfig{});

@@ -10,8 +10,9 @@
 #include "core/check.h"
 #include "bench/sim_bench.h"
 #include "core/paths.h"
-#include "skills/learning/runners/trainer.h"
+#include "skills/learning/runners/on_policy_runner.h"
 #include "skills/learning/runners/training_run.h"
+#include "skills/learning/tasks/skill_discovery_task.h"
 
 namespace flsd {
 
@@ -21,29 +22,32 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
   if (options.threads > 0) config.num_threads = options.threads;
   ConfigureTorchThreads(config.num_threads);
   const Communicator& comm = Communicator::World();
-  Trainer trainer(config, comm);
-  trainer.RunIteration();  // warm-up: first-touch allocations in libtorch and the rollout
+  SkillDiscoveryTask task(config, comm);
+  OnPolicyRunner runner(task, config.ppo, config.seed, comm);
+  runner.RunIteration();  // warm-up: first-touch allocations in libtorch and the rollout
 
-  IterationStats sum;
+  RunnerStats sum;
+  SkillDiscoveryStats task_sum;
   Communicator::Tally collectives;
   double steps = 0.0, ceiling_steps = 0.0, ceiling_seconds = 0.0;
   for (int i = 0; i < options.iterations; ++i) {
-    const IterationStats s = trainer.RunIteration();
+    const RunnerStats s = runner.RunIteration();
+    const SkillDiscoveryStats& t = task.stats();
     steps += static_cast<double>(config.num_envs) * config.steps_per_env;
     collectives.seconds += s.collectives.seconds;
     collectives.calls += s.collectives.calls;
     collectives.bytes += s.collectives.bytes;
     sum.seconds_total += s.seconds_total;
-    sum.seconds_physics += s.seconds_physics;
     sum.seconds_policy += s.seconds_policy;
-    sum.seconds_bookkeeping += s.seconds_bookkeeping;
-    sum.seconds_reward += s.seconds_reward;
+    sum.seconds_finish += s.seconds_finish;
     sum.seconds_ppo += s.seconds_ppo;
-    sum.seconds_pae += s.seconds_pae;
-    sum.seconds_discriminator += s.seconds_discriminator;
+    task_sum.seconds_physics += t.seconds_physics;
+    task_sum.seconds_bookkeeping += t.seconds_bookkeeping;
+    task_sum.seconds_pae += t.seconds_pae;
+    task_sum.seconds_discriminator += t.seconds_discriminator;
     // The ceiling alternates with the iterations, so drift on a shared machine hits both alike.
-    const double seconds = s.seconds_physics;
-    ceiling_steps += MeasurePhysicsCeiling(trainer.vec_env(), seconds, config.seed + i) * seconds;
+    const double seconds = t.seconds_physics;
+    ceiling_steps += MeasurePhysicsCeiling(task.vec_env(), seconds, config.seed + i) * seconds;
     ceiling_seconds += seconds;
   }
   const double rate = steps / sum.seconds_total;
@@ -72,15 +76,15 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
         {"calls", collectives.calls / options.iterations},
         {"bytes_per_rank", collectives.bytes / options.iterations}}},
       {"rollout_seconds_per_iteration",
-       (sum.seconds_physics + sum.seconds_policy + sum.seconds_bookkeeping) / options.iterations},
+       (task_sum.seconds_physics + sum.seconds_policy + task_sum.seconds_bookkeeping) / options.iterations},
       {"time_share",
-       {{"physics", share(sum.seconds_physics)},
+       {{"physics", share(task_sum.seconds_physics)},
         {"policy_inference", share(sum.seconds_policy)},
-        {"windows_and_bookkeeping", share(sum.seconds_bookkeeping)},
-        {"pae_and_discriminator_rewards", share(sum.seconds_reward)},
+        {"windows_and_bookkeeping", share(task_sum.seconds_bookkeeping)},
+        {"pae_and_discriminator_rewards", share(sum.seconds_finish)},
         {"ppo_update", share(sum.seconds_ppo)},
-        {"pae_update", share(sum.seconds_pae)},
-        {"discriminator_update", share(sum.seconds_discriminator)}}},
+        {"pae_update", share(task_sum.seconds_pae)},
+        {"discriminator_update", share(task_sum.seconds_discriminator)}}},
   };
 }
 

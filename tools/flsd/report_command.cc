@@ -12,8 +12,8 @@
 #include "report/skill_report.h"
 #include "skills/learning/evaluation/evaluation.h"
 #include "skills/learning/evaluation/export.h"
-#include "skills/learning/runners/run_loop.h"
-#include "skills/learning/runners/trainer.h"
+#include "skills/learning/runners/run_folder.h"
+#include "skills/learning/tasks/skill_discovery_task.h"
 #include "tools/flsd/subcommands.h"
 
 namespace flsd {

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "core/check.h"
-#include "skills/learning/runners/task_trainer.h"
+#include "skills/learning/tasks/velocity_tracking_task.h"
 #include "skills/learning/runners/training_run.h"
 #include "tools/flsd/subcommands.h"
 
@@ -47,7 +47,7 @@ void AddTraining(CLI::App& app, Subcommands& out) {
                    return RunTraining(*train, StopRequested());
                  }});
 
-  auto task = std::make_shared<TaskRunOptions>();
+  auto task = std::make_shared<VelocityRunOptions>();
   CLI::App* task_cmd = app.add_subcommand(
       "train-selector", "Train the velocity-tracking skill selector (or, --method scratch, a policy from scratch)");
   task_cmd->add_option("--config", task->config_path, "Task training config (configs/selector_*.yaml)");
@@ -65,7 +65,7 @@ void AddTraining(CLI::App& app, Subcommands& out) {
                      throw InputError("train-selector: --config is required for a new run");
                    }
                    StopOnSignals();
-                   return RunTaskTraining(*task, StopRequested());
+                   return RunVelocityTraining(*task, StopRequested());
                  }});
 }
 

@@ -6,8 +6,8 @@
 #include "robot/observation.h"
 #include "core/thread_pool.h"
 #include "sim/vec_env.h"
-#include "skills/learning/runners/run_loop.h"
-#include "skills/learning/runners/trainer.h"
+#include "skills/learning/runners/run_folder.h"
+#include "skills/learning/tasks/skill_discovery_task.h"
 
 namespace flsd {
 Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, RunningNormalizer normalizer,

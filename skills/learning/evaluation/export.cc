@@ -7,8 +7,8 @@
 #include "core/check.h"
 #include "flsd_commit.h"
 #include "robot/observation.h"
-#include "skills/learning/runners/run_loop.h"
-#include "skills/learning/runners/task_trainer.h"
+#include "skills/learning/runners/run_folder.h"
+#include "skills/learning/tasks/velocity_tracking_task.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/runtime/skill_library.h"
 #include "skills/runtime/library_format.h"
@@ -138,8 +138,8 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, in
 nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path) {
   namespace fs = std::filesystem;
   const std::string config_file = (fs::path(run_dir) / "config.yaml").string();
-  const TaskTrainConfig config = LoadTaskTrainConfig(config_file);
-  if (ParseTaskMethod(config.method) != TaskMethod::kSelector) {
+  const VelocityTrainConfig config = LoadVelocityTrainConfig(config_file);
+  if (ParseVelocityMethod(config.method) != VelocityMethod::kSelector) {
     throw InputError(config_file + ": method is '" + config.method + "'; only a selector run can be exported");
   }
   const SkillLibrary base = SkillLibrary::Load(config.library);

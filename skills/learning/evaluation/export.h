@@ -8,7 +8,7 @@
 #include <string>
 
 #include "skills/learning/evaluation/evaluation.h"
-#include "skills/learning/runners/trainer.h"
+#include "skills/learning/tasks/skill_discovery_task.h"
 
 namespace flsd {
 

@@ -11,10 +11,6 @@ DiscriminatorImpl::DiscriminatorImpl(int inputs, int num_skills, const Discrimin
   mlp_ = register_module("mlp", MakeMlp(inputs, config.hidden, num_skills));
 }
 
-torch::Tensor IntrinsicReward(const torch::Tensor& log_probs, const torch::Tensor& skills) {
-  return log_probs.gather(1, skills.unsqueeze(1)).squeeze(1) + std::log(static_cast<double>(log_probs.size(1)));
-}
-
 torch::Tensor Blurred(const torch::Tensor& observations, const DiscriminatorConfig& config) {
   if (config.position_noise == 0.0 && config.feature_noise == 0.0) return observations;
   torch::Tensor scale = torch::full({observations.size(1)}, config.feature_noise, observations.options());

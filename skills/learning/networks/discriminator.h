@@ -53,9 +53,6 @@ class DiscriminatorImpl : public torch::nn::Module {
 };
 TORCH_MODULE(Discriminator);
 
-// Eq. 11: log q(k | o^d) - log p(k) with uniform p(k) = 1 / N_k, for skills [B] (int64).
-torch::Tensor IntrinsicReward(const torch::Tensor& log_probs, const torch::Tensor& skills);
-
 // o^d = [q (2), features] with the config's noise added to each part.
 torch::Tensor Blurred(const torch::Tensor& observations, const DiscriminatorConfig& config);
 

@@ -1,9 +1,8 @@
 #pragma once
-// What both on-policy trainers share, after rsl_rl's OnPolicyRunner: the policy, its observation
-// normaliser, PPO and the rollout it learns from, the job's ranks, the run's counters, and their
-// part of a checkpoint. A trainer fills the rollout from its own environment and keeps its own
-// networks and random streams: skill discovery (trainer.h) its PAE, discriminator and skill
-// draws; velocity tracking (task_trainer.h) its commands and frozen skills.
+// The learning half of the on-policy runner (on_policy_runner.h): the policy, its observation
+// normaliser, PPO and the rollout it learns from, the run's counters, and their part of a
+// checkpoint. The task (rollout_task.h) fills the rollout and keeps its own networks and random
+// streams.
 
 #include <torch/torch.h>
 
@@ -30,7 +29,7 @@ struct RolloutShape {
 // This rank's share of a job's `total` envs; InputError unless every rank gets as many.
 int LocalEnvCount(int total, const Communicator& comm);
 
-// From a trainer's constructor, once every network has drawn its initial weights from the seed
+// From the runner's constructor, once every network has drawn its initial weights from the seed
 // (the same on every rank): each rank after the first draws its actions and minibatches from a
 // stream of its own.
 void SeedRankStreams(uint64_t seed, const Communicator& comm);
@@ -62,7 +61,7 @@ class PolicyLearner {
   long env_steps() const { return env_steps_; }
 
   // The learner's part of a checkpoint: policy, normaliser, optimiser, counters, learning rate,
-  // rank count and libtorch's random state; and the trainer's per-env random streams under `key`.
+  // rank count and libtorch's random state; and the task's per-env random streams under `key`.
   void Write(torch::serialize::OutputArchive& archive, const std::vector<Rng>& env_streams, const char* key) const;
   // Reads it back. The random streams are taken over only by one process resuming a one-process
   // checkpoint. Otherwise each rank draws afresh for this layout: libtorch's generator from the

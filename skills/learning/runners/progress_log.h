@@ -2,7 +2,6 @@
 #include <fstream>
 #include <string>
 
-#include "skills/learning/runners/trainer.h"
 
 namespace flsd {
 
@@ -33,13 +32,7 @@ class ProgressRecord {
   std::string header_, row_;
 };
 
-// The skill trainer's columns, filled from one iteration.
-ProgressRecord SkillProgress(const IterationStats& stats);
-
 // "1h02m" or "3m05s".
 std::string Duration(double seconds);
-
-// One line for the terminal: iteration, speed, ETA, episode length, discriminator accuracy, reward.
-std::string ProgressLine(const IterationStats& stats, int total_iterations, int num_skills, double eta_seconds);
 
 }  // namespace flsd

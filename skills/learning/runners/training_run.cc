@@ -10,13 +10,12 @@
 #include <thread>
 #include <vector>
 
-#include "core/atomic_file.h"
 #include "core/check.h"
 #include "core/thread_pool.h"
-#include "flsd_commit.h"
+#include "skills/learning/runners/on_policy_runner.h"
 #include "skills/learning/runners/policy_learner.h"
-#include "skills/learning/runners/run_loop.h"
-#include "skills/learning/runners/trainer.h"
+#include "skills/learning/tasks/skill_discovery_task.h"
+#include "skills/learning/tasks/velocity_tracking_task.h"
 
 namespace flsd {
 
@@ -39,68 +38,6 @@ void WarnIfOversubscribed(int threads) {
   }
 }
 
-RunFolder OpenRunFolder(const std::string& run_dir, bool resume) {
-  namespace fs = std::filesystem;
-  RunFolder folder{run_dir, (fs::path(run_dir) / "config.yaml").string(), (fs::path(run_dir) / "checkpoint.pt").string(),
-                   (fs::path(run_dir) / "progress.csv").string()};
-  if (resume && !fs::exists(folder.checkpoint)) {
-    throw InputError(run_dir + ": nothing to resume (no checkpoint.pt)");
-  }
-  if (!resume && fs::exists(folder.checkpoint)) {
-    throw InputError(run_dir + " already holds a run (checkpoint.pt): pass --resume to continue it, "
-                     "or choose another --out");
-  }
-  return folder;
-}
-
-std::optional<int> ParseIteration(const std::string& text) {
-  if (text.empty() || text.size() > 9 || text.find_first_not_of("0123456789") != std::string::npos) return {};
-  return std::stoi(text);
-}
-
-std::string KeptCheckpointPath(const std::string& run_dir, int iteration) {
-  return (std::filesystem::path(run_dir) / "checkpoints" / (std::to_string(iteration) + ".pt")).string();
-}
-
-std::string RunCheckpoint(const std::string& run_dir, int iteration) {
-  namespace fs = std::filesystem;
-  if (iteration == 0) return (fs::path(run_dir) / "checkpoint.pt").string();
-  const std::string path = KeptCheckpointPath(run_dir, iteration);
-  if (fs::exists(path)) return path;
-  std::vector<int> kept;
-  const fs::path dir = fs::path(run_dir) / "checkpoints";
-  if (fs::is_directory(dir)) {
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      const std::optional<int> kept_iteration = ParseIteration(entry.path().stem().string());
-      if (entry.path().extension() == ".pt" && kept_iteration) kept.push_back(*kept_iteration);
-    }
-  }
-  std::sort(kept.begin(), kept.end());
-  std::string list;
-  for (int k : kept) list += (list.empty() ? "" : ", ") + std::to_string(k);
-  throw InputError(run_dir + " kept no checkpoint of iteration " + std::to_string(iteration) + " (" +
-                   (kept.empty() ? std::string("it kept none") : "kept: " + list) + ")");
-}
-
-void KeepCheckpoint(const RunFolder& folder, int iteration) {
-  namespace fs = std::filesystem;
-  const std::string path = KeptCheckpointPath(folder.dir, iteration);
-  fs::create_directories(fs::path(path).parent_path());
-  WriteFileAtomically(path, [&](const std::string& temp_path) {
-    fs::copy_file(folder.checkpoint, temp_path, fs::copy_options::overwrite_existing);
-  });
-}
-
-void RecordRunStart(const RunFolder& folder, const std::string& config_yaml, bool resume,
-                    const std::string& from_checkpoint) {
-  namespace fs = std::filesystem;
-  fs::create_directories(folder.dir);
-  WriteFileAtomically(folder.config_file, config_yaml + "\n");
-  std::ofstream commits((fs::path(folder.dir) / "commits").string(), std::ios::app);
-  commits << FLSD_GIT_COMMIT << (resume ? " (resumed)" : "")
-          << (from_checkpoint.empty() ? "" : " (from " + from_checkpoint + ")") << "\n";
-}
-
 const Communicator& StartRun(const RunFolder& folder, const std::string& config_yaml, bool resume, int num_envs,
                              int threads, const std::string& from_checkpoint) {
   const Communicator& comm = Communicator::World();
@@ -118,6 +55,29 @@ const Communicator& StartRun(const RunFolder& folder, const std::string& config_
   }
   return comm;
 }
+
+namespace {
+
+// Every training command's tail: the runner over `task` resumes the folder's checkpoint, or starts
+// from another run's, or from scratch (`new_run` says what starts), then learns.
+int Train(RolloutTask& task, const PpoConfig& ppo, uint64_t seed, const Communicator& comm, const RunFolder& folder,
+          bool resume, const std::string& from_checkpoint, const std::string& new_run, const LearnSchedule& schedule,
+          const std::atomic<bool>& stop_requested) {
+  OnPolicyRunner runner(task, ppo, seed, comm);
+  if (resume) {
+    runner.LoadCheckpoint(folder.checkpoint);
+    spdlog::info("resumed {} at iteration {} ({} env steps)", folder.dir, runner.iteration(), runner.env_steps());
+  } else if (!from_checkpoint.empty()) {
+    runner.LoadCheckpoint(from_checkpoint);
+    spdlog::info("{} from {} at iteration {} ({} env steps)", new_run, from_checkpoint, runner.iteration(),
+                 runner.env_steps());
+  } else {
+    spdlog::info("{}", new_run);
+  }
+  return runner.Learn(folder, schedule, stop_requested);
+}
+
+}  // namespace
 
 int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop_requested) {
   const RunFolder folder = OpenRunFolder(options.run_dir, options.resume);
@@ -150,24 +110,57 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
   ValidateTrainConfig(config, folder.config_file);
   const Communicator& comm = StartRun(folder, ToYamlString(config), options.resume, config.num_envs,
                                       config.num_threads, options.from_checkpoint);
-  Trainer trainer(config, comm);
-  if (options.resume) {
-    trainer.LoadCheckpoint(folder.checkpoint);
-    spdlog::info("resumed {} at iteration {} ({} env steps)", options.run_dir, trainer.iteration(), trainer.env_steps());
-  } else if (!options.from_checkpoint.empty()) {
-    trainer.LoadCheckpoint(options.from_checkpoint);
-    spdlog::info("new {} run in {} from {} at iteration {} ({} env steps)", config.method, options.run_dir,
-                 options.from_checkpoint, trainer.iteration(), trainer.env_steps());
-  } else {
-    spdlog::info("new {} run in {}: {} skills, {} envs x {} steps per iteration, {} iterations",
-                 config.method, options.run_dir, config.num_skills, config.num_envs, config.steps_per_env,
-                 config.iterations);
+  SkillDiscoveryTask task(config, comm);
+  const std::string new_run =
+      !options.from_checkpoint.empty()
+          ? fmt::format("new {} run in {}", config.method, options.run_dir)
+          : fmt::format("new {} run in {}: {} skills, {} envs x {} steps per iteration, {} iterations", config.method,
+                        options.run_dir, config.num_skills, config.num_envs, config.steps_per_env, config.iterations);
+  return Train(task, config.ppo, config.seed, comm, folder, options.resume, options.from_checkpoint, new_run,
+               {config.iterations, config.checkpoint_every, config.keep_checkpoint_every}, stop_requested);
+}
+
+int RunVelocityTraining(const VelocityRunOptions& options, const std::atomic<bool>& stop_requested) {
+  const RunFolder folder = OpenRunFolder(options.run_dir, options.resume);
+  if (options.resume && (!options.method.empty() || !options.library.empty() || !options.overrides.empty())) {
+    throw InputError("--method, --library and --set set up a new run; a resumed run keeps its own (" +
+                     folder.config_file + ")");
   }
-  return RunIterations(
-      trainer, comm, folder, SkillProgress(IterationStats{}).header(), config.iterations, config.checkpoint_every,
-      config.keep_checkpoint_every, stop_requested,
-      [](const IterationStats& s) { return SkillProgress(s).row(); },
-      [&](const IterationStats& s, double eta) { return ProgressLine(s, config.iterations, config.num_skills, eta); });
+  VelocityTrainConfig config = LoadVelocityTrainConfig(options.resume ? folder.config_file : options.config_path, options.overrides);
+  if (!options.method.empty()) config.method = options.method;
+  if (!options.library.empty()) config.library = options.library;
+  if (options.iterations > 0) config.iterations = options.iterations;
+  if (options.threads > 0) config.num_threads = options.threads;
+  ValidateVelocityTrainConfig(config, folder.config_file);
+  // A new selector runs its skills behind the target filter they were trained with.
+  if (!options.resume && ParseVelocityMethod(config.method) == VelocityMethod::kSelector) {
+    const SkillLibrary library = SkillLibrary::Load(config.library);
+    config.env.action_filter_hz = library.action_filter_hz();
+    config.env.action_filter_order = library.action_filter_order();
+    VelocityCommandConfig& commands = config.task.commands;
+    if (commands.library_envelope > 0.0) {
+      const std::array<Interval, 3> envelope = CommandEnvelope(library, commands.library_envelope);
+      commands.vx = envelope[0];
+      commands.vy = envelope[1];
+      commands.wz = envelope[2];
+    }
+    if (commands.skill_share > 0.0) {
+      commands.skill_velocities.clear();
+      const NearestSkillSelector dependable(library);
+      for (const Eigen::Vector3d& v : dependable.velocities()) {
+        commands.skill_velocities.insert(commands.skill_velocities.end(), {v.x(), v.y(), v.z()});
+      }
+    }
+  }
+  const Communicator& comm =
+      StartRun(folder, ToYamlString(config), options.resume, config.num_envs, config.num_threads);
+  VelocityTrackingTask task(config, comm);
+  const std::string new_run = fmt::format(
+      "new velocity-task run ({}{}) in {}: {} envs x {} steps per iteration, {} iterations", config.method,
+      task.library() ? " over " + config.library : std::string(), options.run_dir, config.num_envs,
+      config.steps_per_env, config.iterations);
+  return Train(task, config.ppo, config.seed, comm, folder, options.resume, "", new_run,
+               {config.iterations, config.checkpoint_every, 0}, stop_requested);
 }
 
 }  // namespace flsd

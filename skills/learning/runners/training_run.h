@@ -1,10 +1,13 @@
 #pragma once
+// The training commands' runs: a run folder, the job's ranks, one task and the on-policy runner
+// that trains it.
+
 #include <atomic>
 #include <string>
 #include <vector>
 
 #include "skills/learning/runners/communicator.h"
-#include "skills/learning/runners/run_loop.h"
+#include "skills/learning/runners/run_folder.h"
 
 namespace flsd {
 
@@ -28,6 +31,19 @@ struct TrainingRunOptions {
 // is kept, nothing is written over it). Runs alone, or as one rank of the MPI job it was launched
 // in (Communicator::World()): each rank steps its share of config.num_envs, the leader alone writes.
 int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop_requested);
+
+struct VelocityRunOptions {
+  std::string config_path;  // a new run's config; ignored on resume
+  std::string method;       // overrides the config's, new runs only
+  std::string library;      // overrides the config's, new runs only
+  std::string run_dir;
+  bool resume = false;
+  int iterations = 0;
+  int threads = 0;  // overrides the config's num_threads
+  std::vector<std::string> overrides;  // a new run's "key.path=value" changes to its config
+};
+// As RunTraining, for the velocity-tracking task (a skill selector, or a policy from scratch).
+int RunVelocityTraining(const VelocityRunOptions& options, const std::atomic<bool>& stop_requested);
 
 // Joins the job's ranks (Communicator::World(): the mpirun job, or this process alone) and starts
 // a run in `folder`: the leader records it (RecordRunStart), the other ranks leave the talking to

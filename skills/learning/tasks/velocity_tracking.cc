@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/check.h"
+#include "skills/learning/tasks/smoothness.h"
 
 namespace flsd {
 
@@ -55,16 +56,16 @@ VelocityRewardTerms VelocityTrackingReward::Step(const RobotState& s, const Eige
   t.orientation = s.ProjectedGravity().head<2>().squaredNorm();
   for (int j = 0; j < a1::kNumJoints; ++j) {
     t.torques += s.joint_torque[j] * s.joint_torque[j];
-    t.dof_acc += std::pow((previous_joint_velocity_[j] - s.joint_velocity[j]) / dt, 2);
-    t.action_rate += std::pow(static_cast<double>(previous_action_[j]) - action[j], 2);
     // Soft limits: the middle soft_dof_pos_limit of each joint's range.
     const double middle = 0.5 * (a1::JointMin(j) + a1::JointMax(j));
     const double half = 0.5 * (a1::JointMax(j) - a1::JointMin(j)) * config_.soft_dof_pos_limit;
     t.dof_pos_limits += std::max(0.0, (middle - half) - s.joint_position[j]) +
                         std::max(0.0, s.joint_position[j] - (middle + half));
-    previous_joint_velocity_[j] = s.joint_velocity[j];
-    previous_action_[j] = action[j];
   }
+  t.dof_acc = JointAcceleration(s.joint_velocity.data(), previous_joint_velocity_.data());
+  t.action_rate = ActionRate(action, previous_action_.data());
+  previous_joint_velocity_ = s.joint_velocity;
+  std::copy(action, action + a1::kNumJoints, previous_action_.begin());
   // Feet air time: rewarded at touchdown, for steps longer than the target, only while moving.
   for (int leg = 0; leg < a1::kNumLegs; ++leg) {
     const bool contact = s.foot_contact[leg] || previous_contact_[leg];  // legged_gym's filter

@@ -1,4 +1,5 @@
 #include "skills/learning/networks/discriminator.h"
+#include "skills/learning/tasks/skill_discovery_task.h"
 
 #include <gtest/gtest.h>
 #include <torch/torch.h>

@@ -1,7 +1,7 @@
 // Data-parallel training, run by ctest under `mpirun -np 2`: ranks that each take their share of a
 // fixed batch make the same update as one process taking all of it (PPO, the PAE, the
-// discriminator), the normaliser's statistics merge exactly, and the ranks of a Trainer and of a
-// TaskTrainer keep identical parameters. Every rank runs every collective before it asserts anything, so that a failing
+// discriminator), the normaliser's statistics merge exactly, and the ranks of a skill-discovery run
+// and of a selector run keep identical parameters. Every rank runs every collective before it asserts anything, so that a failing
 // check cannot leave the other rank waiting.
 
 #include <gtest/gtest.h>
@@ -15,8 +15,7 @@
 #include "skills/learning/networks/normalizer.h"
 #include "skills/learning/networks/pae.h"
 #include "skills/learning/algorithms/ppo.h"
-#include "skills/learning/runners/task_trainer.h"
-#include "skills/learning/runners/trainer.h"
+#include "tests/common/in_memory_run.h"
 
 namespace flsd {
 namespace {
@@ -187,43 +186,43 @@ TEST_F(Distributed, NormaliserStatisticsMergeExactly) {
   EXPECT_LT((parted->variance() - whole->variance()).abs().max().item<double>(), 1e-12);
 }
 
-TEST_F(Distributed, TrainerRanksKeepIdenticalParametersAndCountTheWholeJob) {
+TEST_F(Distributed, SkillDiscoveryRanksKeepIdenticalParametersAndCountTheWholeJob) {
   TrainConfig config = LoadTrainConfig(ResolveDataPath("configs/smoke.yaml"));
   config.num_threads = 1;
-  Trainer trainer(config, World());
-  IterationStats stats;
-  for (int i = 0; i < 2; ++i) stats = trainer.RunIteration();
-  double checksum = trainer.normalizer()->mean().sum().item<double>();
+  testutil::SkillRun run(config, World());
+  RunnerStats stats;
+  for (int i = 0; i < 2; ++i) stats = run.runner.RunIteration();
+  double checksum = run.runner.normalizer()->mean().sum().item<double>();
   for (const auto& module : std::vector<std::shared_ptr<torch::nn::Module>>{
-           trainer.policy().ptr(), trainer.pae().ptr(), trainer.discriminator().ptr()}) {
+           run.task.actor_critic().ptr(), run.task.pae().ptr(), run.task.discriminator().ptr()}) {
     for (const torch::Tensor& p : module->parameters()) checksum += p.to(torch::kFloat64).abs().sum().item<double>();
   }
   const std::vector<double> checksums = World().Gather({checksum});
   for (double c : checksums) EXPECT_NEAR(c, checksums[0], 1e-9 * std::abs(checksums[0])) << "parameters diverged";
   EXPECT_EQ(stats.env_steps, 2L * config.num_envs * config.steps_per_env);
   EXPECT_GT(stats.collectives.calls, 0);
-  EXPECT_EQ(trainer.vec_env().num_envs(), config.num_envs / World().size());
+  EXPECT_EQ(run.task.vec_env().num_envs(), config.num_envs / World().size());
 }
 
 TEST_F(Distributed, SelectorRanksKeepIdenticalParametersAndCountTheWholeJob) {
-  TaskTrainConfig config = LoadTaskTrainConfig(ResolveDataPath("configs/selector_smoke.yaml"));
+  VelocityTrainConfig config = LoadVelocityTrainConfig(ResolveDataPath("configs/selector_smoke.yaml"));
   config.library = ResolveDataPath(config.library);
   const SkillLibrary library = SkillLibrary::Load(config.library);  // its skills run behind their own filter
   config.env.action_filter_hz = library.action_filter_hz();
   config.env.action_filter_order = library.action_filter_order();
   config.mirror = true;
-  TaskTrainer trainer(config, World());
-  TaskIterationStats stats;
-  for (int i = 0; i < 2; ++i) stats = trainer.RunIteration();
-  double checksum = trainer.normalizer()->mean().sum().item<double>();
-  for (const torch::Tensor& p : trainer.policy()->parameters()) {
+  testutil::VelocityRun run(config, World());
+  RunnerStats stats;
+  for (int i = 0; i < 2; ++i) stats = run.runner.RunIteration();
+  double checksum = run.runner.normalizer()->mean().sum().item<double>();
+  for (const torch::Tensor& p : run.task.policy()->parameters()) {
     checksum += p.to(torch::kFloat64).abs().sum().item<double>();
   }
   const std::vector<double> checksums = World().Gather({checksum});
   for (double c : checksums) EXPECT_NEAR(c, checksums[0], 1e-9 * std::abs(checksums[0])) << "parameters diverged";
   EXPECT_EQ(stats.env_steps, 2L * config.num_envs * config.steps_per_env * config.decision_interval);
   // Every rank reports the job's figures: the same on each.
-  const std::vector<double> rewards = World().Gather({stats.mean_reward});
+  const std::vector<double> rewards = World().Gather({run.task.stats().mean_reward});
   for (double r : rewards) EXPECT_EQ(r, rewards[0]);
 }
 
@@ -231,7 +230,7 @@ TEST_F(Distributed, EnvCountThatDoesNotDivideIsAnInputError) {
   TrainConfig config = LoadTrainConfig(ResolveDataPath("configs/smoke.yaml"));
   config.num_envs = 2 * World().size() + 1;
   try {
-    Trainer trainer(config, World());
+    SkillDiscoveryTask task(config, World());
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("does not divide among"), std::string::npos) << e.what();

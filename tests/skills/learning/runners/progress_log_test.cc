@@ -11,7 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "skills/learning/runners/task_trainer.h"
+#include "skills/learning/tasks/skill_discovery_task.h"
+#include "skills/learning/tasks/velocity_tracking_task.h"
 #include "tests/common/test_support.h"
 
 namespace flsd {
@@ -28,13 +29,14 @@ constexpr const char* kCommittedHeader =
     "violation_low_base_moving,violation_joint_speed,violation_joint_range,violation_calf_contact";
 
 TEST(SkillProgress, HeaderIsTheCommittedRunsAndEachRowFillsIt) {
-  IterationStats stats;
-  stats.iteration = 12;
-  stats.env_steps = 73728;
-  stats.fall_fraction = 0.125;
-  stats.ppo.learning_rate = 3.38e-05;
-  stats.constraints.violation_rate[0] = 0.5;
-  const ProgressRecord record = SkillProgress(stats);
+  RunnerStats runner;
+  runner.iteration = 12;
+  runner.env_steps = 73728;
+  runner.ppo.learning_rate = 3.38e-05;
+  SkillDiscoveryStats task;
+  task.fall_fraction = 0.125;
+  task.constraints.violation_rate[0] = 0.5;
+  const ProgressRecord record = SkillProgress(runner, task);
   EXPECT_EQ(record.header(), kCommittedHeader);
   EXPECT_EQ(Columns(record.row()), Columns(record.header()));
   EXPECT_EQ(record.row().substr(0, 9), "12,73728,");
@@ -42,11 +44,12 @@ TEST(SkillProgress, HeaderIsTheCommittedRunsAndEachRowFillsIt) {
   EXPECT_NE(record.row().find(",3.38e-05,"), std::string::npos);  // learning_rate, %.3g
 }
 
-TEST(TaskProgress, EachRowFillsTheHeader) {
-  TaskIterationStats stats;
-  stats.iteration = 3;
-  stats.zero_reward_share = 0.25;
-  const ProgressRecord record = TaskProgress(stats);
+TEST(VelocityProgress, EachRowFillsTheHeader) {
+  RunnerStats runner;
+  runner.iteration = 3;
+  VelocityTrackingStats task;
+  task.zero_reward_share = 0.25;
+  const ProgressRecord record = VelocityProgress(runner, task, 0.5);
   EXPECT_EQ(record.header().rfind("iteration,env_steps,steps_per_s,mean_reward,", 0), 0u);
   EXPECT_EQ(Columns(record.row()), Columns(record.header()));
   EXPECT_EQ(record.row().substr(record.row().rfind(',')), ",0.2500");
@@ -54,13 +57,13 @@ TEST(TaskProgress, EachRowFillsTheHeader) {
 
 TEST(ProgressLog, AResumedRunDropsTheRowsPastItsCheckpoint) {
   const testutil::ScratchFile file(".csv");
-  const std::string header = SkillProgress(IterationStats{}).header();
+  const std::string header = SkillProgress(RunnerStats{}, SkillDiscoveryStats{}).header();
   {
     ProgressLog log(file.path(), header, 0);
     for (int i = 1; i <= 5; ++i) {
-      IterationStats s;
+      RunnerStats s;
       s.iteration = i;
-      log.Append(SkillProgress(s).row());
+      log.Append(SkillProgress(s, SkillDiscoveryStats{}).row());
     }
   }
   ProgressLog resumed(file.path(), header, 3);  // the checkpoint was at iteration 3

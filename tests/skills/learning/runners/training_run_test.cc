@@ -23,11 +23,11 @@
 #include "skills/learning/evaluation/evaluation.h"
 #include "server/safety.h"
 #include "skills/learning/evaluation/export.h"
-#include "skills/learning/runners/task_trainer.h"
-#include "skills/learning/runners/run_loop.h"
-#include "skills/learning/runners/trainer.h"
+#include "skills/learning/runners/run_folder.h"
+#include "skills/learning/runners/training_run.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
+#include "tests/common/in_memory_run.h"
 #include "tests/common/served_termination.h"
 
 namespace flsd {
@@ -161,33 +161,34 @@ c10::IValue ReadValue(const std::string& checkpoint, const char* key) {
 }
 
 TEST_F(TrainingRun, IterationReportsFiniteStatsAndCountsSteps) {
-  Trainer trainer(SmokeConfig());
-  EXPECT_EQ(trainer.iteration(), 0);
-  EXPECT_EQ(trainer.policy_obs_size(), PolicyObservationSize(4));
-  const IterationStats s = trainer.RunIteration();
+  testutil::SkillRun trainer(SmokeConfig());
+  EXPECT_EQ(trainer.runner.iteration(), 0);
+  EXPECT_EQ(trainer.task.shape().obs, PolicyObservationSize(4));
+  const RunnerStats s = trainer.runner.RunIteration();
+  const SkillDiscoveryStats& task_stats = trainer.task.stats();
   EXPECT_TRUE(s.finite);
   EXPECT_TRUE(s.ppo.finite);
   EXPECT_EQ(s.iteration, 1);
-  EXPECT_EQ(trainer.iteration(), 1);
+  EXPECT_EQ(trainer.runner.iteration(), 1);
   EXPECT_EQ(s.env_steps, kStepsPerIteration);
-  EXPECT_EQ(trainer.env_steps(), kStepsPerIteration);
-  EXPECT_GE(s.discriminator_accuracy, 0.0);
-  EXPECT_LE(s.discriminator_accuracy, 1.0);
+  EXPECT_EQ(trainer.runner.env_steps(), kStepsPerIteration);
+  EXPECT_GE(task_stats.discriminator_accuracy, 0.0);
+  EXPECT_LE(task_stats.discriminator_accuracy, 1.0);
   // Eq. 11 is log q - log p <= log N_k.
-  EXPECT_TRUE(std::isfinite(s.intrinsic_reward));
-  EXPECT_LE(s.intrinsic_reward, std::log(4.0) + 1e-6);
-  EXPECT_TRUE(std::isfinite(s.pae_loss) && s.pae_loss > 0.0) << s.pae_loss;
-  EXPECT_TRUE(std::isfinite(s.discriminator_loss) && s.discriminator_loss > 0.0) << s.discriminator_loss;
+  EXPECT_TRUE(std::isfinite(task_stats.intrinsic_reward));
+  EXPECT_LE(task_stats.intrinsic_reward, std::log(4.0) + 1e-6);
+  EXPECT_TRUE(std::isfinite(task_stats.pae_loss) && task_stats.pae_loss > 0.0) << task_stats.pae_loss;
+  EXPECT_TRUE(std::isfinite(task_stats.discriminator_loss) && task_stats.discriminator_loss > 0.0) << task_stats.discriminator_loss;
   EXPECT_TRUE(std::isfinite(s.ppo.surrogate_loss) && std::isfinite(s.ppo.value_loss) &&
               std::isfinite(s.ppo.kl));
   EXPECT_GE(s.ppo.learning_rate, 1e-5);
   EXPECT_LE(s.ppo.learning_rate, 1e-2);
-  EXPECT_GT(s.action_std, 0.0);
-  EXPECT_GE(s.fall_fraction, 0.0);
-  EXPECT_LE(s.fall_fraction, 1.0);
+  EXPECT_GT(task_stats.action_std, 0.0);
+  EXPECT_GE(task_stats.fall_fraction, 0.0);
+  EXPECT_LE(task_stats.fall_fraction, 1.0);
   EXPECT_GT(s.seconds_total, 0.0);
-  EXPECT_GT(trainer.normalizer()->count(), 0.0);  // o^p statistics were gathered
-  const IterationStats second = trainer.RunIteration();
+  EXPECT_GT(trainer.runner.normalizer()->count(), 0.0);  // o^p statistics were gathered
+  const RunnerStats second = trainer.runner.RunIteration();
   EXPECT_EQ(second.iteration, 2);
   EXPECT_EQ(second.env_steps, 2 * kStepsPerIteration);
 }
@@ -196,25 +197,25 @@ TEST_F(TrainingRun, IterationReportsFiniteStatsAndCountsSteps) {
 // optimisers, counters and random states.
 TEST_F(TrainingRun, CheckpointRestoresEverythingExactly) {
   const TrainConfig config = SmokeConfig();
-  Trainer a(config);
-  a.RunIteration();
-  a.RunIteration();
-  a.SaveCheckpoint(Path("a.pt"));
+  testutil::SkillRun a(config);
+  a.runner.RunIteration();
+  a.runner.RunIteration();
+  a.runner.SaveCheckpoint(Path("a.pt"));
   const torch::Tensor next_random = torch::rand({4});  // what the global generator gives next
 
-  Trainer b(config);
-  ASSERT_FALSE(SameTensors(*a.policy(), *b.policy())) << "a fresh trainer must start elsewhere for this test";
-  ASSERT_FALSE(SameTensors(*a.normalizer(), *b.normalizer()));
-  b.LoadCheckpoint(Path("a.pt"));
-  EXPECT_TRUE(SameTensors(*a.policy(), *b.policy()));
-  EXPECT_TRUE(SameTensors(*a.normalizer(), *b.normalizer()));
-  EXPECT_TRUE(SameTensors(*a.pae(), *b.pae()));
-  EXPECT_TRUE(SameTensors(*a.discriminator(), *b.discriminator()));
-  EXPECT_EQ(b.iteration(), 2);
-  EXPECT_EQ(b.env_steps(), 2 * kStepsPerIteration);
+  testutil::SkillRun b(config);
+  ASSERT_FALSE(SameTensors(*a.task.actor_critic(), *b.task.actor_critic())) << "a fresh trainer must start elsewhere for this test";
+  ASSERT_FALSE(SameTensors(*a.runner.normalizer(), *b.runner.normalizer()));
+  b.runner.LoadCheckpoint(Path("a.pt"));
+  EXPECT_TRUE(SameTensors(*a.task.actor_critic(), *b.task.actor_critic()));
+  EXPECT_TRUE(SameTensors(*a.runner.normalizer(), *b.runner.normalizer()));
+  EXPECT_TRUE(SameTensors(*a.task.pae(), *b.task.pae()));
+  EXPECT_TRUE(SameTensors(*a.task.discriminator(), *b.task.discriminator()));
+  EXPECT_EQ(b.runner.iteration(), 2);
+  EXPECT_EQ(b.runner.env_steps(), 2 * kStepsPerIteration);
 
   // What b saves straight after loading must be what a saved.
-  b.SaveCheckpoint(Path("b.pt"));
+  b.runner.SaveCheckpoint(Path("b.pt"));
   EXPECT_TRUE(torch::equal(torch::rand({4}), next_random)) << "torch's generator state was not restored";
   for (const char* key : {"iteration", "env_steps", "learning_rate", "skill_rng", "config"}) {
     EXPECT_EQ(ReadValue(Path("a.pt"), key), ReadValue(Path("b.pt"), key)) << key;
@@ -222,12 +223,12 @@ TEST_F(TrainingRun, CheckpointRestoresEverythingExactly) {
   EXPECT_TRUE(torch::equal(ReadValue(Path("a.pt"), "torch_rng").toTensor(),
                            ReadValue(Path("b.pt"), "torch_rng").toTensor()));
 
-  const OptimizerRecord policy_a = AdamRecord(Path("a.pt"), "policy_optimizer", *a.policy());
-  const OptimizerRecord pae_a = AdamWRecord(Path("a.pt"), "pae_optimizer", *a.pae());
-  const OptimizerRecord disc_a = AdamRecord(Path("a.pt"), "discriminator_optimizer", *a.discriminator());
-  ExpectSameOptimizer(policy_a, AdamRecord(Path("b.pt"), "policy_optimizer", *b.policy()), "policy");
-  ExpectSameOptimizer(pae_a, AdamWRecord(Path("b.pt"), "pae_optimizer", *b.pae()), "pae");
-  ExpectSameOptimizer(disc_a, AdamRecord(Path("b.pt"), "discriminator_optimizer", *b.discriminator()),
+  const OptimizerRecord policy_a = AdamRecord(Path("a.pt"), "policy_optimizer", *a.task.actor_critic());
+  const OptimizerRecord pae_a = AdamWRecord(Path("a.pt"), "pae_optimizer", *a.task.pae());
+  const OptimizerRecord disc_a = AdamRecord(Path("a.pt"), "discriminator_optimizer", *a.task.discriminator());
+  ExpectSameOptimizer(policy_a, AdamRecord(Path("b.pt"), "policy_optimizer", *b.task.actor_critic()), "policy");
+  ExpectSameOptimizer(pae_a, AdamWRecord(Path("b.pt"), "pae_optimizer", *b.task.pae()), "pae");
+  ExpectSameOptimizer(disc_a, AdamRecord(Path("b.pt"), "discriminator_optimizer", *b.task.discriminator()),
                       "discriminator");
   // The state is not trivially empty: the smoke config's update counts over two iterations.
   // PPO: 5 epochs x 4 minibatches; PAE: a quarter of 192 windows in one minibatch of 64;
@@ -239,18 +240,18 @@ TEST_F(TrainingRun, CheckpointRestoresEverythingExactly) {
 
 TEST_F(TrainingRun, LoadingAMismatchedCheckpointIsAnInputError) {
   TrainConfig config = SmokeConfig();
-  Trainer a(config);
-  a.SaveCheckpoint(Path("a.pt"));
+  testutil::SkillRun a(config);
+  a.runner.SaveCheckpoint(Path("a.pt"));
   config.num_skills = 5;  // a 50-wide policy input and 5 discriminator outputs
-  Trainer b(config);
-  EXPECT_THAT(InputErrorMessage([&] { b.LoadCheckpoint(Path("missing.pt")); }), HasSubstr("missing.pt"));
+  testutil::SkillRun b(config);
+  EXPECT_THAT(InputErrorMessage([&] { b.runner.LoadCheckpoint(Path("missing.pt")); }), HasSubstr("missing.pt"));
   // torch's Module::load replaces each tensor whatever its shape; the trainer must refuse and keep
   // its own networks.
-  EXPECT_THAT(InputErrorMessage([&] { b.LoadCheckpoint(Path("a.pt")); }), HasSubstr("does not fit"));
-  EXPECT_EQ(b.policy()->named_parameters()["actor.0.weight"].sizes(),
+  EXPECT_THAT(InputErrorMessage([&] { b.runner.LoadCheckpoint(Path("a.pt")); }), HasSubstr("does not fit"));
+  EXPECT_EQ(b.task.actor_critic()->named_parameters()["actor.0.weight"].sizes(),
             torch::IntArrayRef({32, PolicyObservationSize(5)}))
       << "the trainer's policy no longer fits its own config (its next RunIteration throws c10::Error)";
-  EXPECT_EQ(b.discriminator()->parameters().back().sizes(), torch::IntArrayRef({5}));
+  EXPECT_EQ(b.task.discriminator()->parameters().back().sizes(), torch::IntArrayRef({5}));
   // The same gap in what eval and export load.
   EXPECT_THAT(InputErrorMessage([&] { LoadTrainedPolicy(config, Path("a.pt")); }), HasSubstr("does not fit"));
 }
@@ -260,12 +261,12 @@ TEST_F(TrainingRun, LoadingAMismatchedCheckpointIsAnInputError) {
 TEST_F(TrainingRun, NanInThePolicyMakesTheIterationNonFinite) {
   const TrainConfig config = SmokeConfig();
   for (const char* name : {"critic.0.weight", "actor.0.weight"}) {
-    Trainer trainer(config);
+    testutil::SkillRun trainer(config);
     {
       torch::NoGradGuard no_grad;
-      trainer.policy()->named_parameters()[name][0][0].fill_(NAN);
+      trainer.task.actor_critic()->named_parameters()[name][0][0].fill_(NAN);
     }
-    const IterationStats s = trainer.RunIteration();
+    const RunnerStats s = trainer.runner.RunIteration();
     EXPECT_FALSE(s.finite) << name;
     EXPECT_FALSE(s.ppo.finite) << name;
   }
@@ -276,14 +277,14 @@ TEST_F(TrainingRun, NanInThePolicyMakesTheIterationNonFinite) {
 TEST_F(TrainingRun, InitialNetworksFollowTheConfigSeed) {
   TrainConfig config = SmokeConfig();
   torch::manual_seed(123);
-  Trainer a(config);
+  testutil::SkillRun a(config);
   torch::manual_seed(456);
-  Trainer b(config);
+  testutil::SkillRun b(config);
   config.seed = 2;
   torch::manual_seed(123);
-  Trainer c(config);
-  EXPECT_TRUE(SameTensors(*a.policy(), *b.policy())) << "the initial networks must follow config.seed";
-  EXPECT_FALSE(SameTensors(*a.policy(), *c.policy())) << "seeds 1 and 2 must start from different networks";
+  testutil::SkillRun c(config);
+  EXPECT_TRUE(SameTensors(*a.task.actor_critic(), *b.task.actor_critic())) << "the initial networks must follow config.seed";
+  EXPECT_FALSE(SameTensors(*a.task.actor_critic(), *c.task.actor_critic())) << "seeds 1 and 2 must start from different networks";
 }
 
 TEST_F(TrainingRun, RunsThenRefusesToOverwriteThenResumes) {
@@ -360,10 +361,10 @@ std::vector<double> MeanActionByHand(const SafeTensors& library, int layers, con
 // exactly zero, which a moving policy never has.
 TEST_F(TrainingRun, EvaluationRecordsOneEpisodePerSkill) {
   const TrainConfig config = SmokeConfig();
-  Trainer trainer(config);
+  testutil::SkillRun trainer(config);
   EvaluationOptions options;
   options.steps = 40;
-  const Evaluation eval = EvaluateSkills(config, trainer.policy(), trainer.normalizer(), options);
+  const Evaluation eval = EvaluateSkills(config, trainer.task.actor_critic(), trainer.runner.normalizer(), options);
   ASSERT_EQ(eval.trajectories.size(), static_cast<size_t>(config.num_skills));
   int checked = 0;
   for (const SkillTrajectory& t : eval.trajectories) {
@@ -389,16 +390,16 @@ TEST_F(TrainingRun, EvaluationRecordsOneEpisodePerSkill) {
 // first's.
 TEST_F(TrainingRun, OverStartsKeepsTheShortestSurvivalAndTheMeanSlip) {
   const TrainConfig config = SmokeConfig();
-  Trainer trainer(config);
+  testutil::SkillRun trainer(config);
   EvaluationOptions options{true, 500, 5};
   const Evaluation over = EvaluateOverStarts(options, 3, [&](const EvaluationOptions& o) {
-    return EvaluateSkills(config, trainer.policy(), trainer.normalizer(), o);
+    return EvaluateSkills(config, trainer.task.actor_critic(), trainer.runner.normalizer(), o);
   });
   EXPECT_EQ(over.starts, 3);
   std::vector<Evaluation> each;
   for (uint64_t seed : {5, 6, 7}) {
     options.seed = seed;
-    each.push_back(EvaluateSkills(config, trainer.policy(), trainer.normalizer(), options));
+    each.push_back(EvaluateSkills(config, trainer.task.actor_critic(), trainer.runner.normalizer(), options));
   }
   bool differ = false;
   for (int k = 0; k < config.num_skills; ++k) {
@@ -438,24 +439,25 @@ TrainConfig SymmetricSmokeConfig() {
 
 TEST_F(TrainingRun, SymmetricIterationsTrainOnMirrorImagesAndCheckpointTheConstraintScales) {
   const TrainConfig config = SymmetricSmokeConfig();
-  Trainer a(config);
-  IterationStats s = a.RunIteration();
-  s = a.RunIteration();
+  testutil::SkillRun a(config);
+  a.runner.RunIteration();
+  const RunnerStats s = a.runner.RunIteration();
+  const SkillDiscoveryStats& task_stats = a.task.stats();
   EXPECT_TRUE(s.finite);
   // A random policy slides its feet: some steps violate, and end with some probability.
-  EXPECT_GT(s.constraints.violation_rate[static_cast<int>(Constraint::kFootSlip)], 0.0);
-  EXPECT_GT(s.constraints.mean_probability, 0.0);
-  EXPECT_LE(s.constraints.mean_probability, 1.0);
-  for (double rate : s.constraints.violation_rate) EXPECT_TRUE(rate >= 0.0 && rate <= 1.0) << rate;
-  a.SaveCheckpoint(Path("sym.pt"));
+  EXPECT_GT(task_stats.constraints.violation_rate[static_cast<int>(Constraint::kFootSlip)], 0.0);
+  EXPECT_GT(task_stats.constraints.mean_probability, 0.0);
+  EXPECT_LE(task_stats.constraints.mean_probability, 1.0);
+  for (double rate : task_stats.constraints.violation_rate) EXPECT_TRUE(rate >= 0.0 && rate <= 1.0) << rate;
+  a.runner.SaveCheckpoint(Path("sym.pt"));
   const std::string scales = ReadValue(Path("sym.pt"), "constraint_scales").toStringRef();
   EXPECT_NE(scales.find_first_not_of("0 "), std::string::npos) << scales;
-  Trainer b(config);
-  b.LoadCheckpoint(Path("sym.pt"));
-  b.SaveCheckpoint(Path("sym_again.pt"));
+  testutil::SkillRun b(config);
+  b.runner.LoadCheckpoint(Path("sym.pt"));
+  b.runner.SaveCheckpoint(Path("sym_again.pt"));
   EXPECT_EQ(ReadValue(Path("sym_again.pt"), "constraint_scales").toStringRef(), scales);
   // Its evaluation names each skill's mirror image.
-  const Evaluation eval = EvaluateSkills(config, a.policy(), a.normalizer(), EvaluationOptions{false, 30, 1});
+  const Evaluation eval = EvaluateSkills(config, a.task.actor_critic(), a.runner.normalizer(), EvaluationOptions{false, 30, 1});
   EXPECT_EQ(eval.mirror_skill, (std::vector<int>{1, 0, 2, 3}));
   const nlohmann::json json = EvaluationJson(eval);
   EXPECT_EQ(json["skills"][1]["mirror_skill"], 0);
@@ -470,17 +472,17 @@ TEST_F(TrainingRun, SymmetricIterationsTrainOnMirrorImagesAndCheckpointTheConstr
 TEST_F(TrainingRun, TheHeadingTurnedIsAThirdCoordinateOfQ) {
   TrainConfig config = SymmetricSmokeConfig();
   config.discriminator.heading = true;
-  Trainer a(config);
-  EXPECT_TRUE(a.RunIteration().finite);
-  EXPECT_TRUE(a.RunIteration().finite);
-  EXPECT_EQ(a.discriminator()->parameters().front().size(1), 3 + 2 * config.pae.latent_channels);
-  EXPECT_EQ(a.policy()->named_parameters()["critic.0.weight"].size(1), PolicyObservationSize(config.num_skills) + 3);
-  a.SaveCheckpoint(Path("heading.pt"));
+  testutil::SkillRun a(config);
+  EXPECT_TRUE(a.runner.RunIteration().finite);
+  EXPECT_TRUE(a.runner.RunIteration().finite);
+  EXPECT_EQ(a.task.discriminator()->parameters().front().size(1), 3 + 2 * config.pae.latent_channels);
+  EXPECT_EQ(a.task.actor_critic()->named_parameters()["critic.0.weight"].size(1), PolicyObservationSize(config.num_skills) + 3);
+  a.runner.SaveCheckpoint(Path("heading.pt"));
   EXPECT_EQ(LoadTrainedPolicy(config, Path("heading.pt")).policy->named_parameters()["critic.0.weight"].size(1),
             PolicyObservationSize(config.num_skills) + 3);
   config.discriminator.heading = false;
-  Trainer b(config);
-  EXPECT_THAT(InputErrorMessage([&] { b.LoadCheckpoint(Path("heading.pt")); }), HasSubstr("does not fit"));
+  testutil::SkillRun b(config);
+  EXPECT_THAT(InputErrorMessage([&] { b.runner.LoadCheckpoint(Path("heading.pt")); }), HasSubstr("does not fit"));
 }
 
 TEST(TrainingConfigs, EveryShippedSkillConfigLoads) {
@@ -500,7 +502,7 @@ TEST(TrainingConfigs, TheServedConfigsEndEpisodesByTheSupervisorsDefaults) {
        {LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_served.yaml")).env.termination,
         LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_symmetric.yaml")).env.termination,
         LoadTrainConfig(ResolveDataPath("configs/flsd_cpu_symmetric_mild.yaml")).env.termination,
-        LoadTaskTrainConfig(ResolveDataPath("configs/selector_tracking_served.yaml")).env.termination}) {
+        LoadVelocityTrainConfig(ResolveDataPath("configs/selector_tracking_served.yaml")).env.termination}) {
     EXPECT_EQ(served.limits.max_tilt, supervisor.limits.max_tilt);
     EXPECT_EQ(served.limits.min_base_height, supervisor.limits.min_base_height);
     EXPECT_EQ(served.limits.max_joint_speed, supervisor.limits.max_joint_speed);

@@ -1,18 +1,16 @@
-#include "skills/learning/runners/trainer.h"
+#include "skills/learning/tasks/skill_discovery_task.h"
 
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <functional>
-#include <map>
-#include <sstream>
+#include <cstdio>
 
-#include "core/atomic_file.h"
 #include "core/check.h"
-#include "skills/learning/runners/checkpoint_io.h"
 #include "robot/observation.h"
+#include "skills/learning/runners/checkpoint_io.h"
+#include "skills/learning/tasks/smoothness.h"
 
 namespace flsd {
 namespace {
@@ -25,6 +23,7 @@ constexpr int kNormalizedObs = kMotionObsSize + kActionSize;
 // Windows pass through the PAE for rewards in chunks of this many (measured: 512 runs 16 % faster
 // than 4096, whose activations fall out of cache).
 constexpr int64_t kRewardChunk = 512;
+constexpr uint64_t kSkillStream = 1000003;  // the skill draws' seed offset from the run's seed
 
 int DiscriminatorInputs(Method method, const TrainConfig& config) {
   return config.discriminator.skill_frame_size() +
@@ -44,42 +43,13 @@ const TrainConfig& CheckedAndSeeded(const TrainConfig& config) {
   return config;
 }
 
-bool Finite(const torch::Tensor& x) { return torch::isfinite(x).all().item<bool>(); }
-
-constexpr uint64_t kSkillStream = 1000003;  // the skill draws' seed offset from the run's seed
-
-std::vector<torch::Tensor> Parameters(const torch::optim::Optimizer& optimizer) {
-  std::vector<torch::Tensor> all;
-  for (const auto& group : optimizer.param_groups()) all.insert(all.end(), group.params().begin(), group.params().end());
-  return all;
-}
-
 }  // namespace
 
-double TrainEpochs(torch::optim::Optimizer& optimizer, const Communicator& comm, const torch::Tensor& samples,
-                   int epochs, int64_t minibatch, const std::function<torch::Tensor(const torch::Tensor&)>& loss_of) {
-  const int64_t n = samples.size(0);
-  const int64_t share = std::max<int64_t>(1, minibatch / comm.size());
-  const std::vector<torch::Tensor> parameters = Parameters(optimizer);
-  double loss_sum = 0.0;
-  int updates = 0;
-  for (int epoch = 0; epoch < epochs; ++epoch) {
-    const torch::Tensor order = samples.index_select(0, torch::randperm(n, torch::kLong));
-    for (int64_t begin = 0; begin < n; begin += share) {
-      const torch::Tensor loss = loss_of(order.slice(0, begin, std::min(n, begin + share)));
-      if (comm.Any(!Finite(loss))) return NAN;
-      optimizer.zero_grad();
-      loss.backward();
-      comm.AverageGradients(parameters);
-      optimizer.step();
-      loss_sum += loss.item<double>();
-      ++updates;
-    }
-  }
-  return updates > 0 ? comm.Sum(loss_sum / updates) / comm.size() : 0.0;
+torch::Tensor IntrinsicReward(const torch::Tensor& log_probs, const torch::Tensor& skills) {
+  return log_probs.gather(1, skills.unsqueeze(1)).squeeze(1) + std::log(static_cast<double>(log_probs.size(1)));
 }
 
-Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
+SkillDiscoveryTask::SkillDiscoveryTask(const TrainConfig& config, const Communicator& comm)
     : config_(CheckedAndSeeded(config)),
       comm_(comm),
       method_(ParseMethod(config.method)),
@@ -91,8 +61,6 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
       policy_(policy_obs_size_, critic_obs_size_, kActionSize, config.policy),
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config), config.num_skills, config.discriminator),
-      learner_(policy_.ptr(), kNormalizedObs, config.ppo, config.seed, comm),
-      rollout_(learner_.rollout()),
       pairing_(SkillPairingOf(config.num_skills, config.symmetry)),
       constraint_terminations_(config.constraint_terminations),
       pae_optimizer_(pae_->parameters(),
@@ -113,20 +81,16 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
   ended_.assign(n, 0);
   ended_length_sum_.assign(n, 0);
   ended_falls_.assign(n, 0);
-  // Every rank drew the same initial parameters from the seed; from here each draws its own
-  // actions and minibatches.
-  SeedRankStreams(config.seed, comm);
   for (int i = 0; i < n; ++i) {
     skill_rng_.emplace_back(StreamSeed(config.seed + kSkillStream, comm.rank() * n + i));
     DrawSkill(i);
     history_.emplace_back(config.window);
     history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
     last_yaw_[i] = vec_.env(i).state().Yaw();
+    const a1::JointArray<double>& qd = vec_.env(i).state().joint_velocity;
+    std::copy(qd.begin(), qd.end(), &previous_joint_velocity_[i * a1::kNumJoints]);
   }
-  learner_.AllocateRollout({t, n, policy_obs_size_, critic_obs_size_, kActionSize, 2 * kActionSize});
   const auto f = torch::kFloat32;
-  raw_obs_ = torch::zeros({n, policy_obs_size_}, f);
-  if (config.symmetry.enabled) raw_rollout_obs_ = torch::zeros({t, n, policy_obs_size_}, f);
   switching_ = torch::zeros({t, n}, f);
   if (config.env.constraints.enabled) violations_ = torch::zeros({t, n, kNumConstraints}, f);
   if (method_ == Method::kFlsd) windows_ = torch::zeros({t, n, kMotionObsSize, config.window}, f);
@@ -134,13 +98,17 @@ Trainer::Trainer(const TrainConfig& config, const Communicator& comm)
   next_position_ = torch::zeros({t, n, config.discriminator.skill_frame_size()}, f);
   skills_ = torch::zeros({t, n}, torch::kLong);
   penalties_ = torch::zeros({t, n}, f);
-  for (int i = 0; i < n; ++i) {
-    std::copy(vec_.env(i).state().joint_velocity.begin(), vec_.env(i).state().joint_velocity.end(),
-              &previous_joint_velocity_[i * a1::kNumJoints]);
-  }
 }
 
-void Trainer::DrawSkill(int i) {
+RolloutShape SkillDiscoveryTask::shape() const {
+  return {steps_, num_envs_, policy_obs_size_, critic_obs_size_, kActionSize, 2 * kActionSize};
+}
+
+int SkillDiscoveryTask::normalized_obs() const { return kNormalizedObs; }
+
+uint64_t SkillDiscoveryTask::env_streams_seed() const { return config_.seed + kSkillStream; }
+
+void SkillDiscoveryTask::DrawSkill(int i) {
   Rng& rng = skill_rng_[i];
   skill_[i] = std::uniform_int_distribution<int>(0, config_.num_skills - 1)(rng);
   const SkillSwitchConfig& s = config_.skill_switch;
@@ -150,17 +118,15 @@ void Trainer::DrawSkill(int i) {
   }
 }
 
-torch::Tensor Trainer::PolicyObservations(bool update_normalizer) {
-  float* raw = raw_obs_.data_ptr<float>();
+void SkillDiscoveryTask::Observe(torch::Tensor& raw) {
+  float* out = raw.data_ptr<float>();
   for (int i = 0; i < num_envs_; ++i) {
-    BuildPolicyObservation(vec_.motion_obs() + i * kMotionObsSize, &previous_action_[i * kActionSize],
-                           skill_[i], config_.num_skills, raw + i * policy_obs_size_);
+    BuildPolicyObservation(vec_.motion_obs() + i * kMotionObsSize, &previous_action_[i * kActionSize], skill_[i],
+                           config_.num_skills, out + i * policy_obs_size_);
   }
-  if (update_normalizer) learner_.UpdateNormalizer(raw_obs_.slice(1, 0, kNormalizedObs));
-  return NormalizeLeadingColumns(learner_.normalizer(), raw_obs_);
 }
 
-void Trainer::SkillFramePosition(int i, const float* world, float* out) const {
+void SkillDiscoveryTask::SkillFramePosition(int i, const float* world, float* out) const {
   const auto& [x0, y0, yaw0] = skill_origin_[i];
   const double dx = world[0] - x0, dy = world[1] - y0, c = std::cos(yaw0), s = std::sin(yaw0);
   out[0] = static_cast<float>(c * dx + s * dy);
@@ -168,75 +134,49 @@ void Trainer::SkillFramePosition(int i, const float* world, float* out) const {
   if (config_.discriminator.heading) out[2] = static_cast<float>(heading_turned_[i]);
 }
 
-void Trainer::TurnHeading(int i, double yaw) {
+void SkillDiscoveryTask::TurnHeading(int i, double yaw) {
   heading_turned_[i] += std::remainder(yaw - last_yaw_[i], 2.0 * M_PI);
   last_yaw_[i] = yaw;
 }
 
-torch::Tensor Trainer::CriticObservations(const torch::Tensor& obs) {
+// The critic's o^p and q, q in the current skill's frame (SkillFramePosition).
+torch::Tensor SkillDiscoveryTask::CriticObservations(const torch::Tensor& obs) {
   const int size = config_.discriminator.skill_frame_size();
   for (int i = 0; i < num_envs_; ++i) SkillFramePosition(i, vec_.position() + 3 * i, &critic_position_[size * i]);
   const torch::Tensor q = torch::from_blob(critic_position_.data(), {num_envs_, size}) * config_.critic_position_scale;
   return torch::cat({obs, q}, 1);
 }
 
-void Trainer::CollectRollout(IterationStats& stats) {
-  torch::NoGradGuard no_grad;
+void SkillDiscoveryTask::BeginRollout() {
+  stats_ = SkillDiscoveryStats{};
   std::fill(ended_.begin(), ended_.end(), 0);
   std::fill(ended_length_sum_.begin(), ended_length_sum_.end(), 0);
   std::fill(ended_falls_.begin(), ended_falls_.end(), 0);
-  for (int t = 0; t < steps_; ++t) {
-    Clock::time_point start = Clock::now();
-    const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/true);
-    const torch::Tensor critic_obs = CriticObservations(obs);
-    const torch::Tensor distribution = policy_->Distribution(obs);
-    const torch::Tensor action = policy_->Sample(distribution);
-    rollout_.obs[t].copy_(obs);
-    if (raw_rollout_obs_.defined()) raw_rollout_obs_[t].copy_(raw_obs_);
-    float* switching = switching_[t].data_ptr<float>();
-    for (int i = 0; i < num_envs_; ++i) switching[i] = steps_since_switch_[i] < config_.skill_switch.reward_mask_steps;
-    rollout_.critic_obs[t].copy_(critic_obs);
-    rollout_.actions[t].copy_(action);
-    rollout_.distributions[t].copy_(distribution);
-    rollout_.log_probs[t].copy_(policy_->LogProb(distribution, action));
-    rollout_.values[t].copy_(policy_->Value(critic_obs));
-    std::copy(skill_.begin(), skill_.end(), skills_[t].data_ptr<int64_t>());
-    stats.seconds_policy += Since(start);
-
-    start = Clock::now();
-    vec_.Step(action.data_ptr<float>());
-    stats.seconds_physics += Since(start);
-
-    start = Clock::now();
-    AfterStep(t, action.data_ptr<float>());
-    stats.seconds_bookkeeping += Since(start);
-  }
-  const Clock::time_point start = Clock::now();
-  const torch::Tensor obs = PolicyObservations(/*update_normalizer=*/false);
-  last_values_ = policy_->Value(CriticObservations(obs));
-  stats.seconds_policy += Since(start);
-
-  double ended[3] = {0.0, 0.0, 0.0};  // episodes, their lengths, falls: over all ranks
-  for (int i = 0; i < num_envs_; ++i) {
-    ended[0] += ended_[i];
-    ended[1] += ended_length_sum_[i];
-    ended[2] += ended_falls_[i];
-  }
-  comm_.Sum(ended, 3);
-  stats.episodes_ended = static_cast<int>(ended[0]);
-  stats.mean_episode_length = ended[0] > 0 ? ended[1] / ended[0] : 0.0;
-  stats.fall_fraction = ended[0] > 0 ? ended[2] / ended[0] : 0.0;
 }
 
-void Trainer::AfterStep(int t, const float* actions) {
+void SkillDiscoveryTask::Step(int t, const torch::Tensor& actions, Rollout& rollout) {
+  float* switching = switching_[t].data_ptr<float>();
+  for (int i = 0; i < num_envs_; ++i) switching[i] = steps_since_switch_[i] < config_.skill_switch.reward_mask_steps;
+  std::copy(skill_.begin(), skill_.end(), skills_[t].data_ptr<int64_t>());
+
+  Clock::time_point start = Clock::now();
+  vec_.Step(actions.data_ptr<float>());
+  stats_.seconds_physics += Since(start);
+
+  start = Clock::now();
+  AfterStep(t, actions.data_ptr<float>(), rollout);
+  stats_.seconds_bookkeeping += Since(start);
+}
+
+void SkillDiscoveryTask::AfterStep(int t, const float* actions, Rollout& rollout) {
   const int n = num_envs_;
   const int window_floats = kMotionObsSize * config_.window;
   const int q_size = config_.discriminator.skill_frame_size();
   float* windows = method_ == Method::kFlsd ? windows_[t].data_ptr<float>() : nullptr;
   float* next_motion = next_motion_[t].data_ptr<float>();
   float* next_position = next_position_[t].data_ptr<float>();
-  float* dones = rollout_.dones[t].data_ptr<float>();
-  float* timeouts = rollout_.timeouts[t].data_ptr<float>();
+  float* dones = rollout.dones[t].data_ptr<float>();
+  float* timeouts = rollout.timeouts[t].data_ptr<float>();
   float* penalties = penalties_[t].data_ptr<float>();
   float* violations = violations_.defined() ? violations_[t].data_ptr<float>() : nullptr;
   const RegularizationConfig& regularization = config_.regularization;
@@ -261,12 +201,8 @@ void Trainer::AfterStep(int t, const float* actions) {
       float* previous = &previous_action_[i * kActionSize];
       double* previous_qd = &previous_joint_velocity_[i * a1::kNumJoints];
       if (regularization.enabled()) {
-        const a1::JointArray<double>& qd = vec_.stepped_state(i).joint_velocity;
-        double action_rate = 0.0, dof_acc = 0.0;
-        for (int j = 0; j < a1::kNumJoints; ++j) {
-          action_rate += std::pow(actions[i * kActionSize + j] - previous[j], 2);
-          dof_acc += std::pow((qd[j] - previous_qd[j]) / a1::kControlDt, 2);
-        }
+        const double action_rate = ActionRate(actions + i * kActionSize, previous);
+        const double dof_acc = JointAcceleration(vec_.stepped_state(i).joint_velocity.data(), previous_qd);
         penalties[i] = static_cast<float>(
             (regularization.action_rate * action_rate + regularization.dof_acc * dof_acc) * a1::kControlDt);
       }
@@ -307,7 +243,7 @@ void Trainer::AfterStep(int t, const float* actions) {
 }
 
 // The phase manifold of each window [B, 33, H], encoded in chunks (FLSD's o^d features).
-torch::Tensor Trainer::Manifold(const torch::Tensor& windows) {
+torch::Tensor SkillDiscoveryTask::Manifold(const torch::Tensor& windows) {
   const int64_t count = windows.size(0);
   std::vector<torch::Tensor> parts;
   for (int64_t begin = 0; begin < count; begin += kRewardChunk) {
@@ -316,8 +252,19 @@ torch::Tensor Trainer::Manifold(const torch::Tensor& windows) {
   return torch::cat(parts, 0);
 }
 
-void Trainer::ComputeRewards(IterationStats& stats) {
+void SkillDiscoveryTask::FinishRollout(Rollout& rollout, int iteration) {
   torch::NoGradGuard no_grad;
+  double ended[3] = {0.0, 0.0, 0.0};  // episodes, their lengths, falls: over all ranks
+  for (int i = 0; i < num_envs_; ++i) {
+    ended[0] += ended_[i];
+    ended[1] += ended_length_sum_[i];
+    ended[2] += ended_falls_[i];
+  }
+  comm_.Sum(ended, 3);
+  stats_.episodes_ended = static_cast<int>(ended[0]);
+  stats_.mean_episode_length = ended[0] > 0 ? ended[1] / ended[0] : 0.0;
+  stats_.fall_fraction = ended[0] > 0 ? ended[2] / ended[0] : 0.0;
+
   const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
   const torch::Tensor positions = next_position_.view({count, config_.discriminator.skill_frame_size()});
   // Eq. 13: FLSD's o^d = [q, P], P the phase manifold of the window ending at t + 1; DIAYN's
@@ -334,9 +281,9 @@ void Trainer::ComputeRewards(IterationStats& stats) {
                      (log_probs.argmax(1) == skills).to(torch::kFloat32).mean().item<double>(),
                      penalties_.mean().item<double>()};
   comm_.Sum(means, 3);
-  stats.intrinsic_reward = means[0] / comm_.size();
-  stats.discriminator_accuracy = means[1] / comm_.size();
-  stats.regularization = means[2] / comm_.size();
+  stats_.intrinsic_reward = means[0] / comm_.size();
+  stats_.discriminator_accuracy = means[1] / comm_.size();
+  stats_.regularization = means[2] / comm_.size();
   // As legged_gym clips its total: penalties included, so that no step pays less than ending.
   const torch::Tensor total = config_.reward_scale * reward + penalties_.view({count});
   torch::Tensor rewards = (config_.only_positive_rewards ? total.clamp_min(0.0) : total).view({steps_, num_envs_});
@@ -345,15 +292,15 @@ void Trainer::ComputeRewards(IterationStats& stats) {
   if (violations_.defined()) {
     // CaT: a violation ends the episode with its probability, which scales the step's reward and
     // what the step bootstraps from its successor.
-    const torch::Tensor p = constraint_terminations_.Probabilities(violations_, learner_.iteration(), comm_, stats.constraints);
+    const torch::Tensor p = constraint_terminations_.Probabilities(violations_, iteration, comm_, stats_.constraints);
     rewards = rewards * (1.0 - p);
-    rollout_.dones.copy_(torch::max(rollout_.dones, p));
+    rollout.dones.copy_(torch::max(rollout.dones, p));
   }
-  rollout_.rewards.copy_(rewards);
+  rollout.rewards.copy_(rewards);
   DiscriminatorSamples(observations, positions);
 }
 
-torch::Tensor Trainer::MirroredFeatures(int64_t count) {
+torch::Tensor SkillDiscoveryTask::MirroredFeatures(int64_t count) {
   const mirror::SignedPermutation motion = mirror::MotionObservation();
   if (method_ == Method::kFlsd) {
     return Manifold(MirrorAlong(motion, windows_.view({count, kMotionObsSize, config_.window}), 1));
@@ -361,7 +308,7 @@ torch::Tensor Trainer::MirroredFeatures(int64_t count) {
   return MirrorAlong(motion, next_motion_.view({count, kMotionObsSize}), 1);
 }
 
-void Trainer::DiscriminatorSamples(const torch::Tensor& observations, const torch::Tensor& positions) {
+void SkillDiscoveryTask::DiscriminatorSamples(const torch::Tensor& observations, const torch::Tensor& positions) {
   const int64_t count = observations.size(0);
   const torch::Tensor skills = skills_.view({count});
   const torch::Tensor kept = (switching_.view({count}) == 0).nonzero().squeeze(1);
@@ -376,19 +323,19 @@ void Trainer::DiscriminatorSamples(const torch::Tensor& observations, const torc
       torch::cat({discriminator_labels_, PairIndex(pairing_).index_select(0, skills).index_select(0, kept)}, 0);
 }
 
-MirroredSamples Trainer::MirroredRollout() const {
+MirroredSamples SkillDiscoveryTask::Mirror(const torch::Tensor& raw_obs, const Rollout& rollout,
+                                           const RunningNormalizer& normalizer) const {
   torch::NoGradGuard no_grad;
-  const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
+  const int64_t count = raw_obs.size(0);
   MirroredSamples m;
-  const torch::Tensor raw = raw_rollout_obs_.view({count, policy_obs_size_});
-  m.obs = NormalizeLeadingColumns(learner_.normalizer(), MirrorAlong(mirror::PolicyObservation(pairing_), raw, 1));
-  const torch::Tensor position = rollout_.critic_obs.view({count, critic_obs_size_}).slice(1, policy_obs_size_);
+  m.obs = NormalizeLeadingColumns(normalizer, MirrorAlong(mirror::PolicyObservation(pairing_), raw_obs, 1));
+  const torch::Tensor position = rollout.critic_obs.view({count, critic_obs_size_}).slice(1, policy_obs_size_);
   m.critic_obs = torch::cat({m.obs, MirrorAlong(MirroredSkillFrame(config_.discriminator), position, 1)}, 1);
-  m.actions = MirrorAlong(mirror::Joints(), rollout_.actions.view({count, kActionSize}), 1);
+  m.actions = MirrorAlong(mirror::Joints(), rollout.actions.view({count, kActionSize}), 1);
   return m;
 }
 
-double Trainer::UpdatePae() {
+double SkillDiscoveryTask::UpdatePae() {
   const PaeConfig& c = config_.pae;
   const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
   const int64_t sampled = std::max<int64_t>(1, std::llround(c.sample_fraction * count));
@@ -407,7 +354,7 @@ double Trainer::UpdatePae() {
   });
 }
 
-double Trainer::UpdateDiscriminator() {
+double SkillDiscoveryTask::UpdateDiscriminator() {
   const DiscriminatorConfig& c = config_.discriminator;
   const torch::Tensor all = torch::arange(discriminator_obs_.size(0), torch::kLong);
   return TrainEpochs(discriminator_optimizer_, comm_, all, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
@@ -417,61 +364,44 @@ double Trainer::UpdateDiscriminator() {
   });
 }
 
-IterationStats Trainer::RunIteration() {
-  IterationStats stats;
-  const Clock::time_point start = Clock::now();
-  CollectRollout(stats);
-
+bool SkillDiscoveryTask::UpdateAuxiliaries() {
   Clock::time_point phase = Clock::now();
-  ComputeRewards(stats);
-  stats.seconds_reward = Since(phase);
+  if (method_ == Method::kFlsd) stats_.pae_loss = UpdatePae();
+  stats_.seconds_pae = Since(phase);
 
   phase = Clock::now();
-  if (config_.symmetry.enabled) {
-    const MirroredSamples mirrored = MirroredRollout();
-    stats.ppo = learner_.Update(last_values_, &mirrored);
-  } else {
-    stats.ppo = learner_.Update(last_values_);
+  stats_.discriminator_loss = UpdateDiscriminator();
+  stats_.seconds_discriminator = Since(phase);
+
+  stats_.action_std = policy_->Std().mean().item<double>();
+  const bool finite = std::isfinite(stats_.pae_loss) && std::isfinite(stats_.discriminator_loss);
+  if (!finite) {
+    spdlog::error("not finite:{}{}", std::isfinite(stats_.pae_loss) ? "" : " the PAE's loss",
+                  std::isfinite(stats_.discriminator_loss) ? "" : " the discriminator's loss");
   }
-  stats.seconds_ppo = Since(phase);
-
-  phase = Clock::now();
-  if (method_ == Method::kFlsd) stats.pae_loss = UpdatePae();
-  stats.seconds_pae = Since(phase);
-
-  phase = Clock::now();
-  stats.discriminator_loss = UpdateDiscriminator();
-  stats.seconds_discriminator = Since(phase);
-
-  const long job_steps = static_cast<long>(steps_) * num_envs_ * comm_.size();
-  learner_.CountIteration(job_steps);
-  stats.iteration = learner_.iteration();
-  stats.env_steps = learner_.env_steps();
-  stats.action_std = policy_->Std().mean().item<double>();
-  stats.collectives = comm_.TakeTally();
-  stats.seconds_total = Since(start);
-  stats.steps_per_s = job_steps / stats.seconds_total;
-  stats.finite = stats.ppo.finite && std::isfinite(stats.pae_loss) && std::isfinite(stats.discriminator_loss);
-  if (!stats.finite) {
-    spdlog::error("iteration {}: not finite:{}{}{}", stats.iteration, stats.ppo.finite ? "" : " PPO's loss",
-                  std::isfinite(stats.pae_loss) ? "" : " the PAE's loss",
-                  std::isfinite(stats.discriminator_loss) ? "" : " the discriminator's loss");
-  }
-  return stats;
+  return finite;
 }
 
 // ---- checkpoints ----
 
-void Trainer::SaveCheckpoint(const std::string& path) const {
-  torch::serialize::OutputArchive archive;
-  learner_.Write(archive, skill_rng_, "skill_rng");
+void SkillDiscoveryTask::Save(torch::serialize::OutputArchive& archive) const {
   WriteModule(archive, "pae", *pae_);
   WriteModule(archive, "discriminator", *discriminator_);
   WriteOptimizer(archive, "pae_optimizer", pae_optimizer_);
   WriteOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
   archive.write("config", c10::IValue(ToYamlString(config_)));
   archive.write("constraint_scales", c10::IValue(constraint_terminations_.State()));
-  WriteFileAtomically(path, [&](const std::string& temp) { archive.save_to(temp); });
+}
+
+void SkillDiscoveryTask::Load(torch::serialize::InputArchive& archive, const std::string& path) {
+  ReadModule(archive, "pae", *pae_);
+  ReadModule(archive, "discriminator", *discriminator_);
+  ReadOptimizer(archive, "pae_optimizer", pae_optimizer_);
+  ReadOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
+  c10::IValue scales{std::string()};  // checkpoints from before constraints as terminations
+  if (archive.try_read("constraint_scales", scales) && !scales.toStringRef().empty()) {
+    constraint_terminations_.Restore(scales.toStringRef(), path);
+  }
 }
 
 TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& checkpoint) {
@@ -490,23 +420,55 @@ TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& ch
   return out;
 }
 
-void Trainer::LoadCheckpoint(const std::string& path) {
-  torch::serialize::InputArchive archive = OpenCheckpoint(path);
-  try {
-    learner_.Read(archive, skill_rng_, "skill_rng", config_.seed + kSkillStream, comm_.rank() * num_envs_);
-    ReadModule(archive, "pae", *pae_);
-    ReadModule(archive, "discriminator", *discriminator_);
-    ReadOptimizer(archive, "pae_optimizer", pae_optimizer_);
-    ReadOptimizer(archive, "discriminator_optimizer", discriminator_optimizer_);
-    c10::IValue scales{std::string()};  // checkpoints from before constraints as terminations
-    if (archive.try_read("constraint_scales", scales) && !scales.toStringRef().empty()) {
-      constraint_terminations_.Restore(scales.toStringRef(), path);
-    }
-  } catch (const c10::Error& e) {
-    MismatchedCheckpoint(path, e);
-  } catch (const InputError& e) {
-    throw InputError(path + ": does not fit this training config: " + e.what());
+// ---- progress ----
+
+ProgressRecord SkillDiscoveryTask::Progress(const RunnerStats& runner) const { return SkillProgress(runner, stats_); }
+
+ProgressRecord SkillProgress(const RunnerStats& r, const SkillDiscoveryStats& s) {
+  ProgressRecord record;
+  record.Add("iteration", long{r.iteration})
+      .Add("env_steps", r.env_steps)
+      .Add("steps_per_s", r.steps_per_s, "%.1f")
+      .Add("episodes_ended", long{s.episodes_ended})
+      .Add("mean_episode_length", s.mean_episode_length, "%.2f")
+      .Add("fall_fraction", s.fall_fraction, "%.4f")
+      .Add("discriminator_accuracy", s.discriminator_accuracy, "%.5f")
+      .Add("intrinsic_reward", s.intrinsic_reward, "%.5f")
+      .Add("discriminator_loss", s.discriminator_loss, "%.5f")
+      .Add("pae_loss", s.pae_loss, "%.6f")
+      .Add("surrogate_loss", r.ppo.surrogate_loss, "%.6f")
+      .Add("value_loss", r.ppo.value_loss, "%.6f")
+      .Add("entropy", r.ppo.entropy, "%.5f")
+      .Add("kl", r.ppo.kl, "%.6f")
+      .Add("learning_rate", r.ppo.learning_rate, "%.3g")
+      .Add("action_std", s.action_std, "%.5f")
+      .Add("seconds_physics", s.seconds_physics, "%.4f")
+      .Add("seconds_policy", r.seconds_policy, "%.4f")
+      .Add("seconds_bookkeeping", s.seconds_bookkeeping, "%.4f")
+      .Add("seconds_reward", r.seconds_finish, "%.4f")
+      .Add("seconds_ppo", r.seconds_ppo, "%.4f")
+      .Add("seconds_pae", s.seconds_pae, "%.4f")
+      .Add("seconds_discriminator", s.seconds_discriminator, "%.4f")
+      .Add("seconds_total", r.seconds_total, "%.4f")
+      .Add("regularization", s.regularization, "%.6f")
+      .Add("termination_probability", s.constraints.mean_probability, "%.5f");
+  for (size_t c = 0; c < kConstraintNames.size(); ++c) {
+    const std::string column = std::string("violation_") + kConstraintNames[c];
+    record.Add(column.c_str(), s.constraints.violation_rate[c], "%.5f");
   }
+  return record;
+}
+
+std::string SkillDiscoveryTask::ProgressLine(const RunnerStats& r, int total_iterations, double eta_seconds) const {
+  const SkillDiscoveryStats& s = stats_;
+  char line[512];
+  std::snprintf(line, sizeof(line),
+                "it %d/%d | %.0f steps/s | ETA %s | ep len %.0f (falls %.0f%%) | disc acc %.3f "
+                "(chance %.3f) | r_int %.3f | penalty %.4f | pae %.4f | lr %.1e | std %.3f",
+                r.iteration, total_iterations, r.steps_per_s, Duration(eta_seconds).c_str(), s.mean_episode_length,
+                100.0 * s.fall_fraction, s.discriminator_accuracy, 1.0 / config_.num_skills, s.intrinsic_reward,
+                s.regularization, s.pae_loss, r.ppo.learning_rate, s.action_std);
+  return line;
 }
 
 }  // namespace flsd

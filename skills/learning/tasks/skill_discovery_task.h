@@ -1,32 +1,34 @@
 #pragma once
-// Algorithm 1 of the paper: PPO trains one skill-conditioned policy on the intrinsic reward
-// log q(k | o^d) - log p(k), while the PAE (FLSD only) and the discriminator are trained on the
-// same rollouts.
+// Algorithm 1 of the paper as a task for the on-policy runner: one skill-conditioned policy earns
+// the intrinsic reward log q(k | o^d) - log p(k), while the PAE (FLSD only) and the discriminator
+// learn from the same rollouts. The task owns the VecEnv, the skill schedule, the skill frame,
+// the motion windows, the constraint terminations and the mirror pairing of skills.
 
 #include <array>
-#include <atomic>
-#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/rng.h"
 #include "sim/vec_env.h"
+#include "skills/learning/algorithms/constraint_terminations.h"
+#include "skills/learning/algorithms/symmetry.h"
+#include "skills/learning/algorithms/train_epochs.h"
 #include "skills/learning/networks/actor_critic.h"
-#include "skills/learning/runners/communicator.h"
 #include "skills/learning/networks/discriminator.h"
-#include "skills/learning/tasks/motion_history.h"
 #include "skills/learning/networks/normalizer.h"
 #include "skills/learning/networks/pae.h"
-#include "skills/learning/runners/policy_learner.h"
+#include "skills/learning/runners/rollout_task.h"
 #include "skills/learning/runners/train_config.h"
+#include "skills/learning/tasks/motion_history.h"
 
 namespace flsd {
 
-// What one iteration did; a row of the run's progress.csv.
-struct IterationStats {
-  int iteration = 0;
-  long env_steps = 0;                 // since the run began
-  double steps_per_s = 0.0;           // env steps over the whole iteration's wall time
+// Eq. 11: log q(k | o^d) - log p(k) with uniform p(k) = 1 / N_k, for skills [B] (int64).
+torch::Tensor IntrinsicReward(const torch::Tensor& log_probs, const torch::Tensor& skills);
+
+// The task's figures of one iteration, over every rank.
+struct SkillDiscoveryStats {
   int episodes_ended = 0;
   double mean_episode_length = 0.0;   // control steps, of the episodes that ended
   double fall_fraction = 0.0;         // of the episodes that ended, the share that fell
@@ -37,22 +39,13 @@ struct IterationStats {
   double discriminator_loss = 0.0;
   double pae_loss = 0.0;
   double action_std = 0.0;
-  PpoStats ppo;
-  bool finite = true;
-  // Wall seconds spent in each part of the iteration.
-  double seconds_physics = 0.0, seconds_policy = 0.0, seconds_bookkeeping = 0.0,
-         seconds_reward = 0.0, seconds_ppo = 0.0, seconds_pae = 0.0, seconds_discriminator = 0.0,
-         seconds_total = 0.0;
-  Communicator::Tally collectives;  // MPI collectives within the iteration (none in one process)
+  // Wall seconds: simulation, windows and bookkeeping after each step, the PAE's and the
+  // discriminator's updates.
+  double seconds_physics = 0.0, seconds_bookkeeping = 0.0, seconds_pae = 0.0, seconds_discriminator = 0.0;
 };
 
-// `epochs` passes over `samples` (row indices) in shuffled minibatches, one optimiser step each
-// on loss_of(minibatch). Every rank of `comm` passes over its own samples, as many as the others,
-// and the ranks step together on their averaged gradients: `minibatch` is the size of the ranks'
-// minibatches together. Returns the mean loss over the ranks, or NaN, without stepping, as soon as
-// a loss is not finite on any rank.
-double TrainEpochs(torch::optim::Optimizer& optimizer, const Communicator& comm, const torch::Tensor& samples,
-                   int epochs, int64_t minibatch, const std::function<torch::Tensor(const torch::Tensor&)>& loss_of);
+// A skill-discovery run's progress.csv columns.
+ProgressRecord SkillProgress(const RunnerStats& runner, const SkillDiscoveryStats& task);
 
 // The parts of a checkpoint that run the policy: for evaluation and export.
 struct TrainedPolicy {
@@ -61,63 +54,64 @@ struct TrainedPolicy {
   int iteration = 0;
   long env_steps = 0;
 };
-// Reads the policy and normaliser of a checkpoint written by a trainer with `config`.
+// Reads the policy and normaliser of a checkpoint written by a run with `config`.
 TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& checkpoint);
 
-// With several ranks in `comm` (data-parallel training under MPI), config.num_envs is the total:
-// each rank steps its equal share of the envs, and the ranks average every gradient and merge the
-// normaliser's statistics, so all hold the same parameters. Figures in IterationStats are the
-// whole job's.
-class Trainer {
+// With several ranks in `comm`, config.num_envs is the job's: this rank steps its equal share.
+class SkillDiscoveryTask : public RolloutTask {
  public:
-  explicit Trainer(const TrainConfig& config, const Communicator& comm = Communicator::Self());
-  Trainer(const Trainer&) = delete;
-  Trainer& operator=(const Trainer&) = delete;
+  // Checks the config and seeds libtorch's generator before any network draws its weights.
+  explicit SkillDiscoveryTask(const TrainConfig& config, const Communicator& comm = Communicator::Self());
+  SkillDiscoveryTask(const SkillDiscoveryTask&) = delete;
+  SkillDiscoveryTask& operator=(const SkillDiscoveryTask&) = delete;
 
-  // One iteration of Algorithm 1: collect a rollout, compute rewards, update PPO, PAE and
-  // discriminator.
-  IterationStats RunIteration();
+  std::shared_ptr<PpoPolicyImpl> policy() const override { return policy_.ptr(); }
+  RolloutShape shape() const override;
+  int normalized_obs() const override;
+  bool mirrored() const override { return config_.symmetry.enabled; }
 
-  // Checkpoints hold the networks, optimisers, normaliser, counters and random states; the file
-  // is written atomically. Loading checks that the shapes match this trainer's config.
-  // With several ranks, only the leader should save. A checkpoint resumes with any number of
-  // ranks; the random streams are restored only in one process resuming a one-process checkpoint
-  // (and are otherwise drawn afresh from the seed, the rank and the iteration).
-  void SaveCheckpoint(const std::string& path) const;
-  void LoadCheckpoint(const std::string& path);
+  void BeginRollout() override;
+  void Observe(torch::Tensor& raw) override;
+  torch::Tensor CriticObservations(const torch::Tensor& obs) override;
+  void Step(int t, const torch::Tensor& actions, Rollout& rollout) override;
+  void FinishRollout(Rollout& rollout, int iteration) override;
+  MirroredSamples Mirror(const torch::Tensor& raw_obs, const Rollout& rollout,
+                         const RunningNormalizer& normalizer) const override;
+  bool UpdateAuxiliaries() override;
+
+  std::vector<Rng>& env_streams() override { return skill_rng_; }
+  const char* env_streams_key() const override { return "skill_rng"; }
+  uint64_t env_streams_seed() const override;
+  void Save(torch::serialize::OutputArchive& archive) const override;
+  void Load(torch::serialize::InputArchive& archive, const std::string& path) override;
+
+  ProgressRecord Progress(const RunnerStats& runner) const override;
+  std::string ProgressLine(const RunnerStats& runner, int total_iterations, double eta_seconds) const override;
 
   const TrainConfig& config() const { return config_; }
   Method method() const { return method_; }
-  int iteration() const { return learner_.iteration(); }
-  long env_steps() const { return learner_.env_steps(); }
-  ActorCritic policy() const { return policy_; }
-  RunningNormalizer normalizer() const { return learner_.normalizer(); }
+  const SkillDiscoveryStats& stats() const { return stats_; }
+  ActorCritic actor_critic() const { return policy_; }
   PeriodicAutoencoder pae() const { return pae_; }
   Discriminator discriminator() const { return discriminator_; }
-  int policy_obs_size() const { return policy_obs_size_; }
   VecEnv& vec_env() { return vec_; }
-  const Communicator& communicator() const { return comm_; }
 
  private:
-  void CollectRollout(IterationStats& stats);
-  torch::Tensor PolicyObservations(bool update_normalizer);
-  // The critic's o^p and q, q in the current skill's frame (SkillFramePosition).
-  torch::Tensor CriticObservations(const torch::Tensor& obs);
   // q of env i at world position `world` (3 floats) in the frame the current skill started in:
   // its position and heading when it took over (the origin and +x for an episode's first); with
   // discriminator.heading, then the heading turned since (TurnHeading).
   void SkillFramePosition(int i, const float* world, float* out) const;
   // Adds env i's turn from its last yaw to `yaw` (the shorter way round) to the heading turned.
   void TurnHeading(int i, double yaw);
-  void AfterStep(int t, const float* actions);
-  void ComputeRewards(IterationStats& stats);
+  // Records the step's transition of every env (windows, q, ends, penalties) and moves each env's
+  // episode and skill schedule on.
+  void AfterStep(int t, const float* actions, Rollout& rollout);
   void DrawSkill(int env);
   // The discriminator's training samples and labels: this rollout's, but for the steps just after
   // a skill switch, and with symmetry their mirror images too.
   void DiscriminatorSamples(const torch::Tensor& features, const torch::Tensor& positions);
   torch::Tensor Manifold(const torch::Tensor& windows);
   torch::Tensor MirroredFeatures(int64_t count);
-  MirroredSamples MirroredRollout() const;
   double UpdatePae();
   double UpdateDiscriminator();
 
@@ -131,12 +125,11 @@ class Trainer {
   ActorCritic policy_{nullptr};
   PeriodicAutoencoder pae_{nullptr};
   Discriminator discriminator_{nullptr};
-  PolicyLearner learner_;
-  Rollout& rollout_;  // the learner's
   mirror::SkillPairing pairing_;
   ConstraintTerminations constraint_terminations_;
   torch::optim::AdamW pae_optimizer_;
   torch::optim::Adam discriminator_optimizer_;
+  SkillDiscoveryStats stats_;
 
   // Per env.
   std::vector<int> skill_;
@@ -151,9 +144,7 @@ class Trainer {
   std::vector<float> critic_position_;               // per env: q in the skill's frame
   std::vector<int> ended_, ended_length_sum_, ended_falls_;
 
-  // The rollout's other parts, [T, N, ...].
-  torch::Tensor raw_obs_;        // [N, policy_obs_size], this step's unnormalised o^p
-  torch::Tensor raw_rollout_obs_;  // [T, N, policy_obs_size] unnormalised o^p (symmetry)
+  // The rollout's own parts, [T, N, ...].
   torch::Tensor switching_;      // [T, N] 1 within reward_mask_steps of a skill switch
   torch::Tensor violations_;     // [T, N, kNumConstraints] (constraints as terminations)
   torch::Tensor windows_;        // [T, N, 33, H] o^H_{t+1} (FLSD)
@@ -163,7 +154,6 @@ class Trainer {
   torch::Tensor penalties_;      // [T, N] smoothness penalties (RegularizationConfig), dt-scaled
   torch::Tensor discriminator_obs_;     // [M, o^d], the discriminator's training samples
   torch::Tensor discriminator_labels_;  // [M] int64
-  torch::Tensor last_values_;    // [N]
 };
 
 }  // namespace flsd

@@ -1,29 +1,28 @@
 #pragma once
-// The paper's Section IV-C: PPO on legged_gym's velocity-tracking task, either as a skill
-// selector (a categorical policy over the frozen skills of a library, FLSD-L and DIAYN-L of
-// Fig. 8) or as a joint-level policy trained from scratch (Fig. 8's "Scratch"). Both run on the
-// same VelocityTask, reward and PPO; only the action space differs.
+// The paper's Section IV-C as a task for the on-policy runner: PPO on legged_gym's
+// velocity-tracking environment, either as a skill selector (a categorical policy over the frozen
+// skills of a library, FLSD-L and DIAYN-L of Fig. 8) or as a joint-level policy trained from
+// scratch (Fig. 8's "Scratch"). Both run on the same VelocityCommandEnv, reward and PPO; only the
+// action space differs.
 
 #include <array>
-#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "skills/learning/networks/actor_critic.h"
-#include "skills/learning/runners/policy_learner.h"
-#include "skills/learning/runners/progress_log.h"
-#include "skills/learning/tasks/velocity_task.h"
+#include "skills/learning/runners/rollout_task.h"
+#include "skills/learning/tasks/velocity_command_env.h"
 #include "skills/runtime/nearest_skill.h"
 #include "skills/runtime/skill_library.h"
 
 namespace flsd {
 
-enum class TaskMethod { kSelector, kScratch };
-TaskMethod ParseTaskMethod(const std::string& name);  // "selector" or "scratch"
+enum class VelocityMethod { kSelector, kScratch };
+VelocityMethod ParseVelocityMethod(const std::string& name);  // "selector" or "scratch"
 
-struct TaskTrainConfig {
+struct VelocityTrainConfig {
   std::string method = "selector";
   std::string library;  // the skill library the selector chooses from (method selector)
   int seed = 1;
@@ -56,7 +55,7 @@ struct TaskTrainConfig {
   int iterations = 500;
   int checkpoint_every = 25;
   EnvConfig env;
-  VelocityTaskConfig task;
+  VelocityEnvConfig task;
   PolicyConfig policy;
   PpoConfig ppo;
   template <class V>
@@ -81,19 +80,17 @@ struct TaskTrainConfig {
   }
 };
 
-TaskTrainConfig LoadTaskTrainConfig(const std::string& path, const std::vector<std::string>& overrides = {});
-void ValidateTaskTrainConfig(const TaskTrainConfig& config, const std::string& where);
+VelocityTrainConfig LoadVelocityTrainConfig(const std::string& path, const std::vector<std::string>& overrides = {});
+void ValidateVelocityTrainConfig(const VelocityTrainConfig& config, const std::string& where);
 
 // The observation the task policy sees: o^c for the selector (then its prior logits, one per
 // skill, with a nearest-skill prior); o^c and the previous joint action for the scratch policy,
-// whose action is the joint action itself. The leading NormalizedTaskObsSize columns are normalised.
-int TaskPolicyObsSize(const TaskTrainConfig& config, int num_skills);
-int NormalizedTaskObsSize(TaskMethod method);
+// whose action is the joint action itself. The leading NormalizedVelocityObsSize columns are normalised.
+int VelocityPolicyObsSize(const VelocityTrainConfig& config, int num_skills);
+int NormalizedVelocityObsSize(VelocityMethod method);
 
-struct TaskIterationStats {
-  int iteration = 0;
-  long env_steps = 0;
-  double steps_per_s = 0.0;
+// The task's figures of one iteration, over every rank.
+struct VelocityTrackingStats {
   double mean_reward = 0.0;           // per control step, dt-scaled (legged_gym's units)
   double zero_reward_share = 0.0;     // of control steps paid exactly 0 (clipped): no gradient
   double mean_episode_return = 0.0;   // of the episodes that ended (0 if none did)
@@ -104,17 +101,14 @@ struct TaskIterationStats {
   double tracking_ang_vel = 0.0;
   double lin_vel_error = 0.0;         // RMS of |cmd_xy - v_xy|, m/s
   double ang_vel_error = 0.0;         // RMS of |cmd_wz - w_z|, rad/s
-  double entropy_or_std = 0.0;        // the selector's entropy, or the scratch policy's mean std
   double switches_per_s = 0.0;        // how often the selector changed skill within an episode
-  PpoStats ppo;
-  bool finite = true;
-  double seconds_collect = 0.0, seconds_ppo = 0.0, seconds_total = 0.0;
 };
 
-ProgressRecord TaskProgress(const TaskIterationStats& stats);
-std::string TaskProgressLine(const TaskIterationStats& stats, int total_iterations, double eta_seconds);
+// A velocity-tracking run's progress.csv columns; `entropy_or_std` is the selector's entropy or the
+// scratch policy's mean std.
+ProgressRecord VelocityProgress(const RunnerStats& runner, const VelocityTrackingStats& task, double entropy_or_std);
 
-// The parts of a task checkpoint that run the selector: for export.
+// The parts of a selector run's checkpoint that run the selector: for export.
 struct TrainedSelector {
   CategoricalActorCritic policy{nullptr};
   RunningNormalizer normalizer{nullptr};
@@ -122,47 +116,67 @@ struct TrainedSelector {
   long env_steps = 0;
   std::string library_fingerprint;  // of the library it was trained over
 };
-TrainedSelector LoadTrainedSelector(const TaskTrainConfig& config, int num_skills, const std::string& checkpoint);
+TrainedSelector LoadTrainedSelector(const VelocityTrainConfig& config, int num_skills, const std::string& checkpoint);
 
-// With several ranks in `comm` (mpirun), config.num_envs is the whole job's, as for Trainer.
-class TaskTrainer {
+// Per axis (vx, vy, wz), the range of the velocities of the library's surviving skills, with 0
+// in it, times `widen`: the commands a selector over them can follow.
+std::array<Interval, 3> CommandEnvelope(const SkillLibrary& library, double widen);
+
+// With several ranks in `comm` (mpirun), config.num_envs is the whole job's: this rank steps its
+// equal share.
+class VelocityTrackingTask : public RolloutTask {
  public:
-  explicit TaskTrainer(const TaskTrainConfig& config, const Communicator& comm = Communicator::Self());
-  TaskTrainer(const TaskTrainer&) = delete;
-  TaskTrainer& operator=(const TaskTrainer&) = delete;
+  // Checks the config and seeds libtorch's generator before any network draws its weights.
+  explicit VelocityTrackingTask(const VelocityTrainConfig& config, const Communicator& comm = Communicator::Self());
+  VelocityTrackingTask(const VelocityTrackingTask&) = delete;
+  VelocityTrackingTask& operator=(const VelocityTrackingTask&) = delete;
 
-  TaskIterationStats RunIteration();
-  void SaveCheckpoint(const std::string& path) const;
-  void LoadCheckpoint(const std::string& path);
+  std::shared_ptr<PpoPolicyImpl> policy() const override { return policy_; }
+  RolloutShape shape() const override;
+  int normalized_obs() const override { return NormalizedVelocityObsSize(method_); }
+  int control_steps_per_step() const override { return config_.decision_interval; }
+  bool mirrored() const override { return config_.mirror; }
 
-  int iteration() const { return learner_.iteration(); }
-  long env_steps() const { return learner_.env_steps(); }
-  TaskMethod method() const { return method_; }
-  std::shared_ptr<PpoPolicyImpl> policy() const { return policy_; }
-  RunningNormalizer normalizer() const { return learner_.normalizer(); }
+  void BeginRollout() override;
+  void Observe(torch::Tensor& raw) override;
+  void Step(int t, const torch::Tensor& actions, Rollout& rollout) override;
+  void FinishRollout(Rollout& rollout, int iteration) override;
+  MirroredSamples Mirror(const torch::Tensor& raw_obs, const Rollout& rollout,
+                         const RunningNormalizer& normalizer) const override;
+
+  std::vector<Rng>& env_streams() override { return env_.command_rngs(); }
+  const char* env_streams_key() const override { return "command_rng"; }
+  uint64_t env_streams_seed() const override { return config_.seed + VelocityCommandEnv::kCommandStream; }
+  void Save(torch::serialize::OutputArchive& archive) const override;
+  void Load(torch::serialize::InputArchive& archive, const std::string& path) override;
+
+  ProgressRecord Progress(const RunnerStats& runner) const override;
+  std::string ProgressLine(const RunnerStats& runner, int total_iterations, double eta_seconds) const override;
+
+  VelocityMethod method() const { return method_; }
+  const VelocityTrackingStats& stats() const { return stats_; }
   const std::optional<SkillLibrary>& library() const { return library_; }
 
  private:
-  void Collect(TaskIterationStats& stats);
-  torch::Tensor Observations(bool update_normalizer);
+  // The joint actions for this control step: the chosen skill's, or the scratch policy's own.
   void JointActions(const torch::Tensor& policy_action);
-  MirroredSamples MirroredRollout() const;
   // The nearest-skill prior of each row of commands [B, 3] (vx, vy, wz): [B, num_skills].
   torch::Tensor PriorLogits(const torch::Tensor& commands) const;
+  // The selector's entropy, or the scratch policy's mean std, after PPO's update.
+  double EntropyOrStd(const RunnerStats& runner) const;
 
-  TaskTrainConfig config_;
+  VelocityTrainConfig config_;
   const Communicator& comm_;
-  TaskMethod method_;
+  VelocityMethod method_;
   std::optional<SkillLibrary> library_;
   std::optional<NearestSkillSelector> nearest_;  // the prior's, with nearest_prior
   int num_envs_, steps_, obs_size_;
-  VelocityTask task_;
+  VelocityCommandEnv env_;
   int streams_;  // reward streams: 1, or 2 (tracking, and the rest)
   ActorCritic scratch_{nullptr};
   CategoricalActorCritic selector_{nullptr};
   std::shared_ptr<PpoPolicyImpl> policy_;
-  PolicyLearner learner_;
-  Rollout& rollout_;  // the learner's
+  VelocityTrackingStats stats_;
 
   std::vector<PolicyRunner> skill_runners_;  // per env: the frozen skills (selector)
   std::vector<float> previous_action_;       // per env: the last joint action, zero at a reset
@@ -173,27 +187,15 @@ class TaskTrainer {
   std::vector<unsigned char> ended_;  // per env: its episode ended during this decision
   std::vector<int> last_choice_;      // per env: the selector's previous choice, -1 at an episode start
 
-  torch::Tensor raw_obs_, last_values_;
-  torch::Tensor raw_rollout_obs_;  // [T, N, obs] unnormalised, with mirror
+  // This rollout's sums over this rank's control steps (FinishRollout reduces them).
+  struct Sums {
+    long ended = 0, length_sum = 0, falls = 0, switches = 0;
+    long zero_rewards = 0;  // steps the clip at zero left without any gradient
+    double return_sum = 0.0, reward_sum = 0.0, lin_sum = 0.0, ang_sum = 0.0, lin_err2 = 0.0, ang_err2 = 0.0;
+  } sums_;
+
   torch::Tensor commands_;          // [N, 3] this step's, with nearest_prior
   torch::Tensor rollout_commands_;  // [T, N, 3], with nearest_prior and mirror
 };
-
-// Per axis (vx, vy, wz), the range of the velocities of the library's surviving skills, with 0
-// in it, times `widen`: the commands a selector over them can follow.
-std::array<Interval, 3> CommandEnvelope(const SkillLibrary& library, double widen);
-
-struct TaskRunOptions {
-  std::string config_path;  // a new run's config; ignored on resume
-  std::string method;       // overrides the config's, new runs only
-  std::string library;      // overrides the config's, new runs only
-  std::string run_dir;
-  bool resume = false;
-  int iterations = 0;
-  int threads = 0;  // overrides the config's num_threads
-  std::vector<std::string> overrides;  // a new run's "key.path=value" changes to its config
-};
-// As RunTraining (training_run.h), for the velocity task.
-int RunTaskTraining(const TaskRunOptions& options, const std::atomic<bool>& stop_requested);
 
 }  // namespace flsd

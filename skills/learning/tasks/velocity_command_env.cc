@@ -1,4 +1,4 @@
-#include "skills/learning/tasks/velocity_task.h"
+#include "skills/learning/tasks/velocity_command_env.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 namespace flsd {
 
-VelocityTask::VelocityTask(const EnvConfig& env, const VelocityTaskConfig& config, int num_envs, uint64_t seed,
+VelocityCommandEnv::VelocityCommandEnv(const EnvConfig& env, const VelocityEnvConfig& config, int num_envs, uint64_t seed,
                            int num_threads, int first_env)
     : config_(config),
       vec_(env, num_envs, seed, num_threads, first_env),
@@ -25,12 +25,12 @@ VelocityTask::VelocityTask(const EnvConfig& env, const VelocityTaskConfig& confi
   }
 }
 
-void VelocityTask::NewCommand(int i) {
+void VelocityCommandEnv::NewCommand(int i) {
   command_[i] = SampleVelocityCommand(command_rng_[i], config_.commands);
   steps_since_command_[i] = 0;
 }
 
-void VelocityTask::Step(const float* actions) {
+void VelocityCommandEnv::Step(const float* actions) {
   vec_.Step(actions);
   vec_.pool().ParallelFor(num_envs(), [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
@@ -47,7 +47,7 @@ void VelocityTask::Step(const float* actions) {
   });
 }
 
-void VelocityTask::WriteTaskObservations(float* out) const {
+void VelocityCommandEnv::WriteTaskObservations(float* out) const {
   for (int i = 0; i < num_envs(); ++i) {
     BuildTaskObservation(vec_.motion_obs() + i * kMotionObsSize, command_[i].data(), out + i * kTaskObsSize);
   }

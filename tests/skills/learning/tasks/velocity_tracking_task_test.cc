@@ -2,7 +2,7 @@
 // from scratch) on configs/selector_smoke.yaml: iterations, resume, the library fingerprint
 // guard, and the exported selector's parity with libtorch.
 
-#include "skills/learning/runners/task_trainer.h"
+#include "skills/learning/tasks/velocity_tracking_task.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -17,7 +17,8 @@
 #include "robot/observation.h"
 #include "skills/learning/evaluation/export.h"
 #include "skills/learning/evaluation/tracking_eval.h"
-#include "skills/learning/tasks/velocity_task.h"
+#include "skills/learning/runners/training_run.h"
+#include "skills/learning/tasks/velocity_command_env.h"
 #include "skills/runtime/hierarchical_policy.h"
 #include "skills/runtime/nearest_skill.h"
 #include "skills/runtime/safetensors.h"
@@ -30,7 +31,7 @@ using ::testing::HasSubstr;
 using testutil::InputErrorMessage;
 namespace fs = std::filesystem;
 
-class TaskTraining : public ::testing::Test {
+class VelocityTraining : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = testutil::UniqueTempPath("task");
@@ -39,7 +40,7 @@ class TaskTraining : public ::testing::Test {
     // The library is copied, so that a test may change it.
     library_ = Path("skills.safetensors");
     fs::copy_file(ResolveDataPath("models/a1_flsd.safetensors"), library_);
-    config_ = LoadTaskTrainConfig(ResolveDataPath("configs/selector_smoke.yaml"));
+    config_ = LoadVelocityTrainConfig(ResolveDataPath("configs/selector_smoke.yaml"));
     config_.library = library_;
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -49,26 +50,26 @@ class TaskTraining : public ::testing::Test {
   int Train(const std::string& name, int iterations, bool resume = false) {
     const std::string config_file = Path(name + ".yaml");
     std::ofstream(config_file) << ToYamlString(config_);
-    TaskRunOptions options;
+    VelocityRunOptions options;
     options.config_path = config_file;
     options.run_dir = Path(name);
     options.resume = resume;
     options.iterations = iterations;
     std::atomic<bool> stop{false};
-    return RunTaskTraining(options, stop);
+    return RunVelocityTraining(options, stop);
   }
 
   std::string dir_, library_;
-  TaskTrainConfig config_;
+  VelocityTrainConfig config_;
 };
 
-TEST(VelocityTask, CommandsAreRedrawnOnScheduleAndSeenScaledInTheObservation) {
-  VelocityTaskConfig config;
+TEST(VelocityCommandEnv, CommandsAreRedrawnOnScheduleAndSeenScaledInTheObservation) {
+  VelocityEnvConfig config;
   config.commands.resampling_s = 0.1;  // every 5 control steps
   config.commands.min_planar_speed = 0.0;
   EnvConfig env;
   env.randomization.DisableAll();
-  VelocityTask task(env, config, 2, 7, 1);
+  VelocityCommandEnv task(env, config, 2, 7, 1);
   std::vector<float> actions(2 * kActionSize, 0.0f), obs(2 * kTaskObsSize);
   const Eigen::Vector3d first = task.command(0);
   for (int t = 0; t < 4; ++t) task.Step(actions.data());
@@ -89,7 +90,7 @@ TEST(VelocityTask, CommandsAreRedrawnOnScheduleAndSeenScaledInTheObservation) {
   EXPECT_GE(task.rewards()[0], 0.0f);
 }
 
-TEST_F(TaskTraining, SelectorAndScratchRunsTrainResumeAndLogEveryIteration) {
+TEST_F(VelocityTraining, SelectorAndScratchRunsTrainResumeAndLogEveryIteration) {
   ASSERT_EQ(Train("selector", 2), 0);
   ASSERT_EQ(Train("selector", 3, /*resume=*/true), 0);
   std::ifstream progress(Path("selector/progress.csv"));
@@ -108,12 +109,12 @@ TEST_F(TaskTraining, SelectorAndScratchRunsTrainResumeAndLogEveryIteration) {
 // A selector trained on its rollouts' mirror images too, over commands drawn from what its
 // library's skills do: the run records the envelope it drew from, and the scratch policy mirrors
 // its joint actions the same way.
-TEST_F(TaskTraining, MirroredRunsOverTheLibrarysEnvelopeTrain) {
+TEST_F(VelocityTraining, MirroredRunsOverTheLibrarysEnvelopeTrain) {
   config_.mirror = true;
   config_.task.commands.library_envelope = 1.1;
   config_.task.commands.zero_share = 0.2;
   ASSERT_EQ(Train("mirrored", 2), 0);
-  const TaskTrainConfig saved = LoadTaskTrainConfig(Path("mirrored/config.yaml"));
+  const VelocityTrainConfig saved = LoadVelocityTrainConfig(Path("mirrored/config.yaml"));
   const std::array<Interval, 3> envelope = CommandEnvelope(SkillLibrary::Load(library_), 1.1);
   EXPECT_EQ(saved.task.commands.vx, envelope[0]);
   EXPECT_EQ(saved.task.commands.wz, envelope[2]);
@@ -124,7 +125,7 @@ TEST_F(TaskTraining, MirroredRunsOverTheLibrarysEnvelopeTrain) {
   config_.task.commands.skill_share = 0.5;
   ASSERT_EQ(Train("near_skills", 1), 0);
   const NearestSkillSelector nearest(SkillLibrary::Load(library_));
-  const std::vector<double> recorded = LoadTaskTrainConfig(Path("near_skills/config.yaml")).task.commands.skill_velocities;
+  const std::vector<double> recorded = LoadVelocityTrainConfig(Path("near_skills/config.yaml")).task.commands.skill_velocities;
   ASSERT_EQ(recorded.size(), 3 * nearest.candidates().size());
   EXPECT_DOUBLE_EQ(recorded[3], nearest.velocities()[1].x());
   EXPECT_DOUBLE_EQ(recorded.back(), nearest.velocities().back().z());
@@ -132,7 +133,7 @@ TEST_F(TaskTraining, MirroredRunsOverTheLibrarysEnvelopeTrain) {
 
 // With reward streams the critic has two value heads: the run trains, resumes from its checkpoint,
 // and exports (loading the two-headed critic back), and the scratch policy does the same.
-TEST_F(TaskTraining, RunsWithRewardStreamsTrainResumeAndExport) {
+TEST_F(VelocityTraining, RunsWithRewardStreamsTrainResumeAndExport) {
   config_.reward_streams = true;
   ASSERT_EQ(Train("streams", 2), 0);
   ASSERT_EQ(Train("streams", 3, /*resume=*/true), 0);
@@ -148,7 +149,7 @@ TEST_F(TaskTraining, RunsWithRewardStreamsTrainResumeAndExport) {
   ASSERT_EQ(Train("streams_scratch", 2), 0);
 }
 
-TEST(VelocityTask, TheEnvelopeSpansTheSurvivingSkillsAndStill) {
+TEST(VelocityCommandEnv, TheEnvelopeSpansTheSurvivingSkillsAndStill) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
   const std::array<Interval, 3> envelope = CommandEnvelope(library, 1.0);
   double vx_min = 0.0, vx_max = 0.0;
@@ -166,7 +167,7 @@ TEST(VelocityTask, TheEnvelopeSpansTheSurvivingSkillsAndStill) {
   for (int k = 0; k < 10; ++k) EXPECT_EQ(SampleVelocityCommand(rng, all_zero), Eigen::Vector3d::Zero());
 }
 
-TEST_F(TaskTraining, ASelectorIsNeverResumedOrExportedOverAChangedLibrary) {
+TEST_F(VelocityTraining, ASelectorIsNeverResumedOrExportedOverAChangedLibrary) {
   ASSERT_EQ(Train("selector", 1), 0);
   // Another library in the same place: one skill descriptor differs.
   SafeTensors file = ReadSafeTensors(library_);
@@ -179,7 +180,7 @@ TEST_F(TaskTraining, ASelectorIsNeverResumedOrExportedOverAChangedLibrary) {
               HasSubstr("fingerprint"));
 }
 
-TEST_F(TaskTraining, TheExportedSelectorMatchesLibtorchAndRunsTheSkills) {
+TEST_F(VelocityTraining, TheExportedSelectorMatchesLibtorchAndRunsTheSkills) {
   ASSERT_EQ(Train("selector", 2), 0);
   const std::string out = Path("with_selector.safetensors");
   const nlohmann::json result = ExportSelector(Path("selector"), out);
@@ -221,7 +222,7 @@ TEST_F(TaskTraining, TheExportedSelectorMatchesLibtorchAndRunsTheSkills) {
 
 // A selector trained to hold each skill for 3 control steps is served the same way: a choice on
 // the first call and every third after, whatever the observations do in between; Reset forgets.
-TEST_F(TaskTraining, TheSelectorHoldsItsChoiceForItsDecisionInterval) {
+TEST_F(VelocityTraining, TheSelectorHoldsItsChoiceForItsDecisionInterval) {
   config_.decision_interval = 3;
   ASSERT_EQ(Train("held", 1), 0);
   const std::string out = Path("held.safetensors");
@@ -266,7 +267,7 @@ TEST_F(TaskTraining, TheSelectorHoldsItsChoiceForItsDecisionInterval) {
 
 // With a nearest-skill prior the selector's logits are its network's plus the prior of the command
 // (NearestSkillSelector::Prior), in training (mirrored rollouts too) and as skilld serves it.
-TEST_F(TaskTraining, ASelectorWithANearestSkillPriorIsServedWithTheSamePrior) {
+TEST_F(VelocityTraining, ASelectorWithANearestSkillPriorIsServedWithTheSamePrior) {
   config_.nearest_prior_temperature = 0.05;
   config_.mirror = true;
   ASSERT_EQ(Train("prior", 2), 0);
@@ -301,7 +302,7 @@ TEST_F(TaskTraining, ASelectorWithANearestSkillPriorIsServedWithTheSamePrior) {
   EXPECT_THAT(InputErrorMessage([&] { Train("scratch_prior", 1); }), HasSubstr("nearest_prior_temperature"));
 }
 
-TEST_F(TaskTraining, ExportingAScratchRunIsRefused) {
+TEST_F(VelocityTraining, ExportingAScratchRunIsRefused) {
   config_.method = "scratch";
   ASSERT_EQ(Train("scratch", 1), 0);
   config_.decision_interval = 2;

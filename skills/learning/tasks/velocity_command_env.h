@@ -13,7 +13,7 @@
 
 namespace flsd {
 
-struct VelocityTaskConfig {
+struct VelocityEnvConfig {
   VelocityCommandConfig commands;
   VelocityRewardConfig reward;
   template <class V>
@@ -23,13 +23,13 @@ struct VelocityTaskConfig {
   }
 };
 
-class VelocityTask {
+class VelocityCommandEnv {
  public:
   static constexpr uint64_t kCommandStream = 7919;  // the command draws' seed offset from the run's seed
 
   // As VecEnv, a data-parallel rank holds envs [first_env, first_env + num_envs) of a larger batch
   // and draws the commands those envs would draw in one process.
-  VelocityTask(const EnvConfig& env, const VelocityTaskConfig& config, int num_envs, uint64_t seed, int num_threads,
+  VelocityCommandEnv(const EnvConfig& env, const VelocityEnvConfig& config, int num_envs, uint64_t seed, int num_threads,
                int first_env = 0);
 
   int num_envs() const { return vec_.num_envs(); }
@@ -54,7 +54,7 @@ class VelocityTask {
  private:
   void NewCommand(int i);
 
-  VelocityTaskConfig config_;
+  VelocityEnvConfig config_;
   VecEnv vec_;
   int resampling_steps_;
   std::vector<Rng> command_rng_;

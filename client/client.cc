@@ -129,7 +129,7 @@ bool Client::WaitForServer(std::chrono::milliseconds timeout) {
   while (std::chrono::steady_clock::now() < until) {
     // A round trip proves both directions are matched; until then a reply could be lost.
     if (requests_.matched_readers() > 0 && replies_.matched_writers() > 0 &&
-        Call(dds::CallName(dds::Call::kStatus), {}, std::chrono::milliseconds(200)).answered) {
+        Call(flsd::CallName(flsd::Call::kStatus), {}, std::chrono::milliseconds(200)).answered) {
       return true;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -208,36 +208,36 @@ void Client::TakeReplies(dds_entity_t reader) {
   if (reply_ready_) reply_arrived_.notify_all();
 }
 
-Reply Client::Simple(dds::Call call, std::chrono::milliseconds timeout) {
-  return Call(dds::CallName(call), {}, timeout).reply();
+Reply Client::Simple(flsd::Call call, std::chrono::milliseconds timeout) {
+  return Call(flsd::CallName(call), {}, timeout).reply();
 }
 
-Task Client::Long(dds::Call call, const CallArgs& args, std::chrono::milliseconds timeout) {
-  return Task(*this, Call(dds::CallName(call), args, timeout).reply());
+Task Client::Long(flsd::Call call, const CallArgs& args, std::chrono::milliseconds timeout) {
+  return Task(*this, Call(flsd::CallName(call), args, timeout).reply());
 }
 
 std::vector<SkillInfo> Client::ListSkills(std::chrono::milliseconds timeout) {
-  const CallResult r = Call(dds::CallName(dds::Call::kListSkills), {}, timeout);
+  const CallResult r = Call(flsd::CallName(flsd::Call::kListSkills), {}, timeout);
   if (!r.ok()) throw CallError(r.reply());
   std::vector<SkillInfo> skills;
   for (const flsd_msgs_SkillInfo& s : r.skills) skills.push_back(ToSkillInfo(s));
   return skills;
 }
 
-Reply Client::Status(std::chrono::milliseconds timeout) { return Simple(dds::Call::kStatus, timeout); }
+Reply Client::Status(std::chrono::milliseconds timeout) { return Simple(flsd::Call::kStatus, timeout); }
 
 Task Client::ExecuteSkill(int skill, double duration, std::chrono::milliseconds timeout) {
   CallArgs args;
   args.skill = skill;
   args.duration = duration;
-  return Long(dds::Call::kExecuteSkill, args, timeout);
+  return Long(flsd::Call::kExecuteSkill, args, timeout);
 }
 
 Task Client::TrackVelocity(double vx, double vy, double wz, double duration, std::chrono::milliseconds timeout) {
   CallArgs args;
   args.velocity = {vx, vy, wz};
   args.duration = duration;
-  return Long(dds::Call::kTrackVelocity, args, timeout);
+  return Long(flsd::Call::kTrackVelocity, args, timeout);
 }
 
 Task Client::Navigate(double x, double y, const std::string& map_yaml, double duration,
@@ -246,17 +246,17 @@ Task Client::Navigate(double x, double y, const std::string& map_yaml, double du
   args.goal = {x, y};
   args.map_yaml = map_yaml;
   args.duration = duration;
-  return Long(dds::Call::kNavigate, args, timeout);
+  return Long(flsd::Call::kNavigate, args, timeout);
 }
 
-Reply Client::Stop(std::chrono::milliseconds timeout) { return Simple(dds::Call::kStop, timeout); }
-Reply Client::Stand(std::chrono::milliseconds timeout) { return Simple(dds::Call::kStand, timeout); }
-Reply Client::Reset(std::chrono::milliseconds timeout) { return Simple(dds::Call::kReset, timeout); }
-Reply Client::Damp(std::chrono::milliseconds timeout) { return Simple(dds::Call::kDamp, timeout); }
-Reply Client::ClearStop(std::chrono::milliseconds timeout) { return Simple(dds::Call::kClearStop, timeout); }
+Reply Client::Stop(std::chrono::milliseconds timeout) { return Simple(flsd::Call::kStop, timeout); }
+Reply Client::Stand(std::chrono::milliseconds timeout) { return Simple(flsd::Call::kStand, timeout); }
+Reply Client::Reset(std::chrono::milliseconds timeout) { return Simple(flsd::Call::kReset, timeout); }
+Reply Client::Damp(std::chrono::milliseconds timeout) { return Simple(flsd::Call::kDamp, timeout); }
+Reply Client::ClearStop(std::chrono::milliseconds timeout) { return Simple(flsd::Call::kClearStop, timeout); }
 
 Reply Client::AcquireControl(std::chrono::milliseconds timeout) {
-  Reply r = Simple(dds::Call::kAcquireControl, timeout);
+  Reply r = Simple(flsd::Call::kAcquireControl, timeout);
   if (r.ok()) {
     lost_control_ = false;
     in_control_ = true;
@@ -266,7 +266,7 @@ Reply Client::AcquireControl(std::chrono::milliseconds timeout) {
 
 Reply Client::ReleaseControl(std::chrono::milliseconds timeout) {
   in_control_ = false;
-  return Simple(dds::Call::kReleaseControl, timeout);
+  return Simple(flsd::Call::kReleaseControl, timeout);
 }
 
 std::optional<StateReport> Client::State() const {
@@ -369,7 +369,7 @@ void Client::Background() {
       next_heartbeat = now + options_.heartbeat;
       // A slow or late heartbeat is not a lost lease; only the server saying so is.
       std::unique_lock<std::mutex> lock(call_mutex_);
-      const CallResult r = Send(dds::CallName(dds::Call::kRenewControl), {}, kHeartbeatTimeout);
+      const CallResult r = Send(flsd::CallName(flsd::Call::kRenewControl), {}, kHeartbeatTimeout);
       if (!r.safety_report.empty()) {
         unreported_safety_ += (unreported_safety_.empty() ? "" : "; ") + r.safety_report;
       }

@@ -128,8 +128,8 @@ class Client {
   CallResult Send(const std::string& call, const CallArgs& args, std::chrono::milliseconds timeout);
   static void OnReplies(dds_entity_t reader, void* self);
   void TakeReplies(dds_entity_t reader);
-  Reply Simple(dds::Call call, std::chrono::milliseconds timeout);
-  Task Long(dds::Call call, const CallArgs& args, std::chrono::milliseconds timeout);
+  Reply Simple(flsd::Call call, std::chrono::milliseconds timeout);
+  Task Long(flsd::Call call, const CallArgs& args, std::chrono::milliseconds timeout);
   // Keeps the reports of this client's recent tasks: state_mutex_ held.
   void TrackTasks(const StateSample& sample);
 

@@ -275,9 +275,9 @@ int main(int argc, char** argv) {
       const flsd::Task task = command == "skill" ? client.ExecuteSkill(skill_id, duration, timeout)
                               : command == "vel" ? client.TrackVelocity(velocity[0], velocity[1], velocity[2], duration, timeout)
                                                  : client.Navigate(goal[0], goal[1], map_yaml, duration, timeout);
-      const char* call = flsd::dds::CallName(command == "skill" ? flsd::dds::Call::kExecuteSkill
-                                             : command == "vel" ? flsd::dds::Call::kTrackVelocity
-                                                                : flsd::dds::Call::kNavigate);
+      const char* call = flsd::CallName(command == "skill" ? flsd::Call::kExecuteSkill
+                                             : command == "vel" ? flsd::Call::kTrackVelocity
+                                                                : flsd::Call::kNavigate);
       code = Report(task.reply());
       if (code == 0) {
         flsd::NavigationRecord record;

@@ -2,18 +2,7 @@
 
 #include <cmath>
 
-#include "comm/protocol.h"
-
 namespace flsd {
-
-const char* Name(ReplyStatus status) {
-  if (status == ReplyStatus::kNoReply) return "no reply";
-  return dds::StatusName(dds::ToIdl(status));
-}
-
-const char* Name(Mode mode) { return dds::ModeName(static_cast<flsd_msgs_Mode>(mode)); }
-
-const char* Name(TaskState state) { return dds::TaskStateName(static_cast<flsd_msgs_TaskState>(state)); }
 
 std::string Reply::Describe() const {
   if (!answered()) return "no reply from skilld";

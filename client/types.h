@@ -1,8 +1,7 @@
 #pragma once
 // The client's own types: what a script sees of skilld's replies, skills, tasks and state, with
-// no IDL struct or C enum in sight. Its enums are the server's too (comm/modes.h), with the IDL's
-// values (checked in comm/protocol.cc), so converting is a cast, and their names come from
-// comm/protocol.h's tables.
+// no IDL struct or C enum in sight. Its enums, and their names (Name), are the server's too
+// (api/modes.h), with the IDL's values, so converting is a cast.
 
 #include <array>
 #include <cstdint>
@@ -10,14 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "comm/modes.h"
+#include "api/modes.h"
 
 namespace flsd {
-
-// "ok", "not in control", "no reply"; "stand"; "succeeded", "lease lost".
-const char* Name(ReplyStatus status);
-const char* Name(Mode mode);
-const char* Name(TaskState state);
 
 struct Reply {
   uint64_t request_id = 0;  // the call's: its task on the state topic carries it

@@ -184,36 +184,11 @@ PYBIND11_MODULE(flsd, m) {
 
   // Enums print as on the wire ("not in control", "lease lost").
   py::enum_<ReplyStatus> reply_status(m, "ReplyStatus");
-  reply_status
-      .value("OK", ReplyStatus::kOk)
-      .value("INVALID_ARGUMENT", ReplyStatus::kInvalidArgument)
-      .value("UNKNOWN_CALL", ReplyStatus::kUnknownCall)
-      .value("NOT_IN_CONTROL", ReplyStatus::kNotInControl)
-      .value("NOT_AVAILABLE", ReplyStatus::kNotAvailable)
-      .value("SAFETY_STOP", ReplyStatus::kSafetyStop)
-      .value("DUPLICATE", ReplyStatus::kDuplicate)
-      .value("DEADLINE_EXCEEDED", ReplyStatus::kDeadlineExceeded)
-      .value("INTERNAL", ReplyStatus::kInternal)
-      .value("NO_REPLY", ReplyStatus::kNoReply);
+  for (const EnumName<ReplyStatus>& n : kReplyStatusNames) reply_status.value(n.identifier, n.value);
   py::enum_<Mode> mode(m, "Mode");
-  mode
-      .value("IDLE", Mode::kIdle)
-      .value("STAND", Mode::kStand)
-      .value("SKILL", Mode::kSkill)
-      .value("VELOCITY", Mode::kVelocity)
-      .value("NAVIGATE", Mode::kNavigate)
-      .value("DAMP", Mode::kDamp);
+  for (const EnumName<Mode>& n : kModeNames) mode.value(n.identifier, n.value);
   py::enum_<TaskState> task_state(m, "TaskState");
-  task_state
-      .value("NONE", TaskState::kNone)
-      .value("RUNNING", TaskState::kRunning)
-      .value("SUCCEEDED", TaskState::kSucceeded)
-      .value("CANCELLED", TaskState::kCancelled)
-      .value("SAFETY_STOP", TaskState::kSafetyStop)
-      .value("PREEMPTED", TaskState::kPreempted)
-      .value("LEASE_LOST", TaskState::kLeaseLost)
-      .value("NO_PATH", TaskState::kNoPath)
-      .value("TIMEOUT", TaskState::kTimeout);
+  for (const EnumName<TaskState>& n : kTaskStateNames) task_state.value(n.identifier, n.value);
 
   // Replaces pybind11's "Mode.STAND" (def would add an overload behind it).
   reply_status.attr("__str__") = py::cpp_function([](ReplyStatus v) { return Name(v); }, py::is_method(reply_status));

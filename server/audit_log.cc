@@ -74,7 +74,7 @@ std::string AuditLog::Describe(const std::string& identity, const flsd_msgs_Requ
 
 void AuditLog::Record(const std::string& description, const ReplyContent& reply) const {
   const std::string outcome = std::string(reply.status == ReplyStatus::kOk ? "accepted" : "refused") + " (" +
-                              dds::StatusName(dds::ToIdl(reply.status)) + ": " + reply.message + ")";
+                              Name(reply.status) + ": " + reply.message + ")";
   spdlog::info("audit: {} -> {}", description, outcome);
   if (fd_ < 0) return;
   char when[32];

@@ -3,18 +3,30 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 
-#include "comm/protocol.h"
 
 namespace flsd {
 namespace {
 
 int Ticks(double seconds) { return static_cast<int>(std::lround(seconds / a1::kControlDt)); }
 
-// Legs folded and spread, as the A1 lies after its motors go slack: a recovery lies down in this
-// pose, so that the robot rests on its belly with its feet wide, then stands up from it. (From
-// legs folded under the body, the rising robot pins its feet too close and stands pitched.)
-constexpr a1::JointArray<double> kLyingPose = {-0.45, 1.1, -2.6, 0.45, 1.1, -2.6, -0.45, 1.45, -2.6, 0.45, 1.45, -2.6};
+constexpr bool RowsInEnumOrder() {
+  for (std::size_t i = 0; i < std::size(kControlStates); ++i) {
+    if (static_cast<std::size_t>(kControlStates[i].state) != i) return false;
+  }
+  return std::size(kControlStates) == static_cast<std::size_t>(ControlState::kNavigate) + 1;
+}
+static_assert(RowsInEnumOrder(), "kControlStates: one row per state, in the order of the enum");
+
+ControlState StateOf(Mode task_mode) {
+  switch (task_mode) {
+    case Mode::kSkill: return ControlState::kSkill;
+    case Mode::kVelocity: return ControlState::kVelocity;
+    case Mode::kNavigate: return ControlState::kNavigate;
+    default: return ControlState::kIdle;
+  }
+}
 
 // The selector `selector` names, or none: "learned" over a library without a selector, or "auto"
 // over one without a selector or a surviving skill, leaves the calls it serves unavailable. "auto"
@@ -50,18 +62,19 @@ Controller::Controller(Backend& backend, const SkillLibrary& library, const Serv
       velocity_selector_(MakeHierarchy(library, "selector", config.selector, SelectorKind::kTimeSharing)),
       navigation_selector_(
           MakeHierarchy(library, "navigation.selector", config.navigation.selector, SelectorKind::kNearestSkill)),
-      target_filter_(library.action_filter_hz(), library.action_filter_order()) {
+      target_filter_(library.action_filter_hz(), library.action_filter_order()),
+      stand_(config_) {
   try {
     still_skills_.emplace(library);
   } catch (const InputError&) {  // no dependable skill: the stand follows a policy at once
   }
-  state_ = backend_.Read();
+  robot_ = backend_.Read();
   Publish();
 }
 
-HierarchicalPolicy* Controller::Hierarchy(Mode mode) {
-  if (mode == Mode::kVelocity) return velocity_selector_ ? &*velocity_selector_ : nullptr;
-  if (mode == Mode::kNavigate) return navigation_selector_ ? &*navigation_selector_ : nullptr;
+HierarchicalPolicy* Controller::Hierarchy(ControlState state) {
+  if (state == ControlState::kVelocity) return velocity_selector_ ? &*velocity_selector_ : nullptr;
+  if (state == ControlState::kNavigate) return navigation_selector_ ? &*navigation_selector_ : nullptr;
   return nullptr;
 }
 
@@ -70,249 +83,200 @@ const HierarchicalPolicy* Controller::selector(bool navigation) const {
   return chosen ? &*chosen : nullptr;
 }
 
-bool Controller::Submit(const ControlRequest& request) {
-  std::lock_guard<std::mutex> lock(queue_mutex_);
-  if (queue_count_ == kQueueSize) return false;
-  queue_[(queue_head_ + queue_count_) % kQueueSize] = request;
-  ++queue_count_;
-  return true;
-}
-
-void Controller::SubmitUrgent(const ControlRequest& request) {
-  std::lock_guard<std::mutex> lock(queue_mutex_);
-  if (request.kind == ControlRequest::Kind::kDamp) {
-    urgent_damp_ = request;
-    have_urgent_damp_ = true;
-  } else if (urgent_stop_count_ < kUrgentStops) {
-    urgent_stops_[urgent_stop_count_++] = request;
-  } else {  // a flood of hand-overs within one tick: stop more than was asked, never less
-    ControlRequest& last = urgent_stops_[kUrgentStops - 1];
-    last = request;
-    last.scope = ControlRequest::Scope::kAny;
-  }
-}
-
-bool Controller::TakeQueued(ControlRequest& request) {
-  std::lock_guard<std::mutex> lock(queue_mutex_);
-  if (queue_count_ == 0) return false;
-  request = queue_[queue_head_];
-  queue_head_ = (queue_head_ + 1) % kQueueSize;
-  --queue_count_;
-  return true;
-}
-
 void Controller::Tick() {
-  state_ = backend_.Read();
+  robot_ = backend_.Read();
   ++tick_;
+  Supervise();  // first: a trip overrides whatever a request asks for in this tick
+  requests_.TakeAll([this](const ControlRequest& request) { Apply(request); });
+  // A task waiting for the stand starts now, so that its policy acts from its first published tick.
+  if (state_ == ControlState::kStand || (state_ == ControlState::kLieDown && stand_.settled())) SettledStand();
+  backend_.Send(Command());
+  task_.Update(tick_, TaskTicksLeft(), a1::kControlDt);
+  Publish();
+}
 
-  // Supervise first: a trip overrides whatever a request asks for in this tick.
+void Controller::Supervise() {
   const std::string backend_fault = backend_.Fault();  // empty (no allocation) while healthy
   uint32_t faults = backend_fault.empty() ? 0u : kFaultBackend;
   SetText(backend_fault_, backend_fault.c_str());
   hazards_ = Hazards();
-  if (MotorsActive()) {
+  if (Row(state_).motors_on) {
     // A robot rising from the floor, or lying down to rise again, is low until it has stood up.
-    const bool rising = mode_ == Mode::kStand && !Braking() && (stand_ticks_ < stand_total_ticks_ || lying_down_);
-    faults |= supervisor_.Check(state_, a1::kControlDt, !rising);
+    faults |= supervisor_.Check(robot_, a1::kControlDt, !Row(state_).rising);
   } else {
     supervisor_.Reset();
   }
-  if (faults != 0 && mode_ != Mode::kDamp) EnterDamp(faults);
-
-  ControlRequest request;
-  while (TakeQueued(request)) Apply(request);
-  ControlRequest damp;
-  bool have_damp = false;
-  int stops = 0;
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    std::swap(have_damp, have_urgent_damp_);
-    damp = urgent_damp_;
-    std::swap(stops, urgent_stop_count_);
-    std::copy_n(urgent_stops_.begin(), stops, taken_stops_.begin());
-  }
-  for (int i = 0; i < stops; ++i) Apply(taken_stops_[i]);
-  if (have_damp) Apply(damp);
-
-  // A skill or velocity task waiting for the stand starts now, so that its policy acts from its
-  // first published tick.
-  if (mode_ == Mode::kStand && !Braking() && stand_ticks_ >= stand_total_ticks_) SettledStand();
-  JointCommand command;
-  switch (mode_) {
-    case Mode::kStand: command = StandCommand(); break;
-    case Mode::kSkill: command = TakeTaskTick() ? SkillCommand() : EndTimedTask(); break;
-    case Mode::kVelocity:
-    case Mode::kNavigate: command = TakeTaskTick() ? VelocityCommand() : EndTimedTask(); break;
-    default: command = DampCommand(); break;
-  }
-  backend_.Send(command);
-
-  if (task_.state == TaskState::kRunning) {
-    task_.elapsed = static_cast<double>(tick_ - task_start_tick_) * a1::kControlDt;
-    // While braking, the stand that follows is estimated from where the legs are now.
-    const int stand_left = mode_ != Mode::kStand ? 0
-                           : Braking() ? brake_ticks_left_ + StandTicks(state_.joint_position, a1::kDefaultJointPos)
-                                       : std::max(0, stand_total_ticks_ - stand_ticks_);
-    const int task_left = mode_ == Mode::kStand ? pending_ticks_ : task_ticks_left_;
-    task_.remaining = (stand_left + task_left) * a1::kControlDt;
-  }
-  Publish();
+  if (faults != 0 && state_ != ControlState::kDamp) EnterDamp(faults);
 }
 
-bool Controller::PolicyActs() const {
-  return mode_ == Mode::kSkill || mode_ == Mode::kVelocity || mode_ == Mode::kNavigate;
+JointCommand Controller::Command() {
+  switch (state_) {
+    case ControlState::kIdle:
+    case ControlState::kDamp: return DampCommand();
+    case ControlState::kBrake:
+    case ControlState::kRise:
+    case ControlState::kStand:
+    case ControlState::kLieDown: return StandCommand();
+    case ControlState::kSkill: return TakeTaskTick() ? SkillCommand() : EndTimedTask();
+    case ControlState::kVelocity:
+    case ControlState::kNavigate: return TakeTaskTick() ? VelocityCommand() : EndTimedTask();
+  }
+  return DampCommand();
 }
 
-bool Controller::MotorsActive() const {
-  return mode_ == Mode::kStand || mode_ == Mode::kSkill || mode_ == Mode::kVelocity ||
-         mode_ == Mode::kNavigate;
+int Controller::TaskTicksLeft() const {
+  if (mode() != Mode::kStand) return task_ticks_left_;
+  // While braking, the stand that follows is estimated from where the legs are now.
+  const int stand_left = state_ == ControlState::kBrake
+                             ? stand_.brake_ticks_left() + stand_.Ticks(robot_.joint_position, a1::kDefaultJointPos)
+                             : stand_.ticks_left();
+  return stand_left + pending_.ticks;
 }
 
 void Controller::Apply(const ControlRequest& request) {
+  using Kind = ControlRequest::Kind;
   switch (request.kind) {
-    case ControlRequest::Kind::kStand:
-      // Never stiffen a robot that is on its side, out of range, or not being sensed (the
-      // request side refuses these too; this catches what changed since it looked).
-      if (hazards_ != 0) return;
-      if (latched_faults_ & kFaultStop) return;  // an emergency stop is lifted on purpose only
-      if (task_.state == TaskState::kRunning) EndTask(TaskState::kPreempted, "preempted by stand");
-      latched_faults_ = 0;
-      fault_message_[0] = '\0';
-      recoveries_ = 0;
-      if (mode_ != Mode::kStand) EnterStand();
-      pending_mode_ = Mode::kIdle;
-      break;
-    case ControlRequest::Kind::kSkill:
-      if (task_.state == TaskState::kRunning) EndTask(TaskState::kPreempted, "preempted by a new skill");
-      StartTask(request, dds::CallName(dds::Call::kExecuteSkill));
-      if (mode_ == Mode::kDamp) {  // a stop latched after the request side accepted it
-        EndTask(TaskState::kSafetyStop, "a safety stop latched before the skill could start");
-        return;
-      }
-      if (hazards_ != 0) {  // as for stand: never stiffen a robot that is down or unsensed
-        char why[192];
-        DescribeFaults(hazards_, state_, config_.safety, why, sizeof why, backend_fault_.data());
-        EndTask(TaskState::kSafetyStop, why);
-        return;
-      }
-      // Every skill starts from the default pose: the state its episodes started from in training.
-      recoveries_ = 0;
-      EnterStand();
-      pending_mode_ = Mode::kSkill;
-      pending_skill_ = request.skill;
-      pending_ticks_ = std::max(1, Ticks(request.duration));
-      break;
-    case ControlRequest::Kind::kVelocity: {
-      const Mode mode = request.navigate ? Mode::kNavigate : Mode::kVelocity;
-      HierarchicalPolicy* hierarchy = Hierarchy(mode);
-      if (!hierarchy) return;  // the request side refuses these
-      const bool walking = mode_ == Mode::kVelocity || mode_ == Mode::kNavigate;
-      if (task_.state == TaskState::kRunning) EndTask(TaskState::kPreempted, "preempted by a new velocity task");
-      StartTask(request, dds::CallName(request.navigate ? dds::Call::kNavigate : dds::Call::kTrackVelocity));
-      if (mode_ == Mode::kDamp) {
-        EndTask(TaskState::kSafetyStop, "a safety stop latched before the task could start");
-        return;
-      }
-      if (hazards_ != 0) {
-        char why[192];
-        DescribeFaults(hazards_, state_, config_.safety, why, sizeof why, backend_fault_.data());
-        EndTask(TaskState::kSafetyStop, why);
-        return;
-      }
-      const std::array<double, 3> command = hierarchy->Clip(request.velocity.data());
-      if (walking) {  // already under a selector: change the command without stopping
-        // A client may stream one command as a run of tasks: it keeps the held skill and the
-        // time-sharing cycle. Another command (or mode) is chosen for at once.
-        const Eigen::Vector3d before(velocity_command_.data()), after(command.data());
-        if (Hierarchy(mode_) != hierarchy ||
-            NearestSkillSelector::Distance(before, after) > TimeSharingSelector::kNewCommand) {
-          hierarchy->Reset(skill_);
-        }
-        velocity_command_ = command;
-        mode_ = mode;
-        task_ticks_left_ = std::max(1, Ticks(request.duration));
-        return;
-      }
-      velocity_command_ = command;
-      recoveries_ = 0;
-      EnterStand();
-      pending_mode_ = mode;
-      pending_ticks_ = std::max(1, Ticks(request.duration));
-      break;
-    }
-    case ControlRequest::Kind::kVelocityUpdate: {
-      // While the robot stands up for the task, the task's mode is the pending one.
-      const HierarchicalPolicy* hierarchy = Hierarchy(mode_ == Mode::kStand ? pending_mode_ : mode_);
-      if (!hierarchy || task_.state != TaskState::kRunning || task_.request_id != request.request_id ||
-          task_.client_id != request.client_id) {
-        return;  // that task has ended
-      }
-      velocity_command_ = hierarchy->Clip(request.velocity.data());
-      task_.message = request.reason;
-      break;
-    }
-    case ControlRequest::Kind::kStop:
-      if (!StopApplies(request)) return;
-      if (task_.state == TaskState::kRunning) EndTask(request.stop_state, request.reason.data());
-      pending_mode_ = Mode::kIdle;
-      if (mode_ != Mode::kDamp && mode_ != Mode::kIdle && mode_ != Mode::kStand) EnterStand();
-      break;
-    case ControlRequest::Kind::kDamp:
-      if (task_.state == TaskState::kRunning) EndTask(TaskState::kCancelled, request.reason.data());
-      EnterDamp(kFaultStop);
-      stop_client_ = request.client_id;  // the newest press is the one to clear
-      stop_time_ = static_cast<double>(tick_) * a1::kControlDt;
-      break;
-    case ControlRequest::Kind::kClearStop:
-      if (!(latched_faults_ & kFaultStop) || request.pressed_at != stop_time_) return;
-      latched_faults_ &= ~kFaultStop;
-      stop_client_[0] = '\0';
-      if (latched_faults_ == 0) {  // nothing else latched: damped and idle until told to stand
-        fault_message_[0] = '\0';
-        if (mode_ == Mode::kDamp) mode_ = Mode::kIdle;
-      } else {
-        DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size(),
-                       backend_fault_.data());
-      }
-      break;
-    case ControlRequest::Kind::kReset:
-      if (!backend_.CanReset() || (latched_faults_ & kFaultStop)) return;  // as for stand
-      if (task_.state == TaskState::kRunning) EndTask(TaskState::kCancelled, "the simulation was reset");
-      backend_.Reset();
-      state_ = backend_.Read();
-      SetText(backend_fault_, backend_.Fault().c_str());
-      hazards_ = Hazards();  // of the reset robot: a request after this tick's status may start it
-      mode_ = Mode::kIdle;  // the reset robot is at rest: nothing to brake
-      latched_faults_ = 0;
-      fault_message_[0] = '\0';
-      pending_mode_ = Mode::kIdle;
-      recoveries_ = 0;
-      EnterStand();
-      break;
+    case Kind::kStand: ApplyStand(); break;
+    case Kind::kSkill: ApplySkill(request); break;
+    case Kind::kVelocity: ApplyVelocity(request); break;
+    case Kind::kVelocityUpdate: ApplyVelocityUpdate(request); break;
+    case Kind::kStop: ApplyStop(request); break;
+    case Kind::kDamp: ApplyDamp(request); break;
+    case Kind::kClearStop: ApplyClearStop(request); break;
+    case Kind::kReset: ApplyReset(); break;
   }
 }
 
-bool Controller::StopApplies(const ControlRequest& stop) const {
-  const bool running = task_.state == TaskState::kRunning;
-  switch (stop.scope) {
-    case ControlRequest::Scope::kAny: return true;
-    case ControlRequest::Scope::kClient:
-      return running && task_.client_id == stop.client_id && (stop.request_id == 0 || task_.request_id < stop.request_id);
-    case ControlRequest::Scope::kTask:
-      return running && task_.client_id == stop.client_id && task_.request_id == stop.request_id;
+void Controller::ApplyStand() {
+  // Never stiffen a robot that is on its side, out of range, or not being sensed (the request
+  // side refuses these too; this catches what changed since it looked).
+  if (hazards_ != 0) return;
+  if (latched_faults_ & kFaultStop) return;  // an emergency stop is lifted on purpose only
+  task_.End(TaskState::kPreempted, "preempted by stand");
+  latched_faults_ = 0;
+  fault_message_[0] = '\0';
+  stand_.ResetRecoveries();
+  if (mode() != Mode::kStand) EnterStand();
+  pending_ = PendingTask{};
+}
+
+bool Controller::StartMotionTask(const ControlRequest& request, Call call, const char* what) {
+  char preempted[64];
+  std::snprintf(preempted, sizeof preempted, "preempted by a new %s", what);
+  const char* noun = call == Call::kExecuteSkill ? "skill" : "task";
+  task_.End(TaskState::kPreempted, preempted);
+  task_.Start(request, CallName(call), tick_);
+  if (state_ == ControlState::kDamp) {  // a stop latched after the request side accepted it
+    char why[96];
+    std::snprintf(why, sizeof why, "a safety stop latched before the %s could start", noun);
+    task_.End(TaskState::kSafetyStop, why);
+    return false;
   }
-  return false;
+  if (hazards_ != 0) {  // as for stand: never stiffen a robot that is down or unsensed
+    char why[192];
+    DescribeFaults(hazards_, robot_, config_.safety, why, sizeof why, backend_fault_.data());
+    task_.End(TaskState::kSafetyStop, why);
+    return false;
+  }
+  return true;
+}
+
+void Controller::ApplySkill(const ControlRequest& request) {
+  if (!StartMotionTask(request, Call::kExecuteSkill, "skill")) return;
+  // Every skill starts from the default pose: the state its episodes started from in training.
+  stand_.ResetRecoveries();
+  EnterStand();
+  pending_ = {ControlState::kSkill, request.skill, std::max(1, Ticks(request.duration))};
+}
+
+void Controller::ApplyVelocity(const ControlRequest& request) {
+  const ControlState next = request.navigate ? ControlState::kNavigate : ControlState::kVelocity;
+  HierarchicalPolicy* hierarchy = Hierarchy(next);
+  if (!hierarchy) return;  // the request side refuses these
+  const bool walking = state_ == ControlState::kVelocity || state_ == ControlState::kNavigate;
+  if (!StartMotionTask(request, request.navigate ? Call::kNavigate : Call::kTrackVelocity, "velocity task")) return;
+  const std::array<double, 3> command = hierarchy->Clip(request.velocity.data());
+  if (walking) {  // already under a selector: change the command without stopping
+    // A client may stream one command as a run of tasks: it keeps the held skill and the
+    // time-sharing cycle. Another command (or mode) is chosen for at once.
+    const Eigen::Vector3d before(velocity_command_.data()), after(command.data());
+    if (Hierarchy(state_) != hierarchy ||
+        NearestSkillSelector::Distance(before, after) > TimeSharingSelector::kNewCommand) {
+      hierarchy->Reset(skill_);
+    }
+    velocity_command_ = command;
+    state_ = next;
+    task_ticks_left_ = std::max(1, Ticks(request.duration));
+    return;
+  }
+  velocity_command_ = command;
+  stand_.ResetRecoveries();
+  EnterStand();
+  pending_ = {next, -1, std::max(1, Ticks(request.duration))};
+}
+
+void Controller::ApplyVelocityUpdate(const ControlRequest& request) {
+  // While the robot stands up for the task, the task's state is the pending one.
+  const HierarchicalPolicy* hierarchy = Hierarchy(mode() == Mode::kStand ? pending_.state : state_);
+  if (!hierarchy || !task_.IsRunning(request)) return;  // that task has ended
+  velocity_command_ = hierarchy->Clip(request.velocity.data());
+  task_.SetMessage(request.reason);
+}
+
+void Controller::ApplyStop(const ControlRequest& request) {
+  if (!task_.StoppedBy(request)) return;
+  task_.End(request.stop_state, request.reason.data());
+  pending_ = PendingTask{};
+  if (Row(state_).task_policy) EnterStand();
+}
+
+void Controller::ApplyDamp(const ControlRequest& request) {
+  task_.End(TaskState::kCancelled, request.reason.data());
+  EnterDamp(kFaultStop);
+  stop_client_ = request.client_id;  // the newest press is the one to clear
+  stop_time_ = static_cast<double>(tick_) * a1::kControlDt;
+}
+
+void Controller::ApplyClearStop(const ControlRequest& request) {
+  if (!(latched_faults_ & kFaultStop) || request.pressed_at != stop_time_) return;
+  latched_faults_ &= ~kFaultStop;
+  stop_client_[0] = '\0';
+  if (latched_faults_ == 0) {  // nothing else latched: damped and idle until told to stand
+    fault_message_[0] = '\0';
+    if (state_ == ControlState::kDamp) state_ = ControlState::kIdle;
+  } else {
+    DescribeFaults(latched_faults_, robot_, config_.safety, fault_message_.data(), fault_message_.size(),
+                   backend_fault_.data());
+  }
+}
+
+void Controller::ApplyReset() {
+  if (!backend_.CanReset() || (latched_faults_ & kFaultStop)) return;  // as for stand
+  task_.End(TaskState::kCancelled, "the simulation was reset");
+  backend_.Reset();
+  robot_ = backend_.Read();
+  SetText(backend_fault_, backend_.Fault().c_str());
+  hazards_ = Hazards();  // of the reset robot: a request after this tick's status may start it
+  state_ = ControlState::kIdle;  // the reset robot is at rest: nothing to brake
+  latched_faults_ = 0;
+  fault_message_[0] = '\0';
+  pending_ = PendingTask{};
+  stand_.ResetRecoveries();
+  EnterStand();
 }
 
 void Controller::EnterStand() {
-  lying_down_ = false;
-  if (Braking()) return;  // the stand follows the brake
-  const int brake = PolicyActs() ? BrakeSkill(skill_) : -1;
-  mode_ = Mode::kStand;
-  brake_ticks_left_ = Ticks(config_.stand_brake_time);
-  skill_ = brake_ticks_left_ > 0 ? brake : -1;
-  if (Braking()) return;
-  MoveTargets(a1::kDefaultJointPos);
+  if (state_ == ControlState::kBrake) return;  // the stand follows the brake
+  const int brake = Row(state_).task_policy ? BrakeSkill(skill_) : -1;
+  stand_.StartBrake();
+  if (brake >= 0 && stand_.brake_ticks_left() > 0) {
+    state_ = ControlState::kBrake;
+    skill_ = brake;
+    return;
+  }
+  state_ = ControlState::kRise;
+  skill_ = -1;
+  stand_.MoveTo(robot_, a1::kDefaultJointPos);
 }
 
 int Controller::BrakeSkill(int from) const {
@@ -327,160 +291,81 @@ int Controller::BrakeSkill(int from) const {
 }
 
 uint32_t Controller::Hazards() const {
-  return (backend_fault_[0] == '\0' ? 0u : kFaultBackend) | SafetySupervisor::Hazards(state_, config_.safety);
-}
-
-void Controller::LieDown() {
-  lying_down_ = true;
-  MoveTargets(kLyingPose);
-}
-
-void Controller::MoveTargets(const a1::JointArray<double>& to) {
-  stand_from_ = state_.joint_position;
-  stand_to_ = to;
-  stand_ticks_ = 0;
-  unverified_ticks_ = 0;
-  stand_total_ticks_ = StandTicks(stand_from_, to);
-  stand_move_ticks_ = stand_total_ticks_ - Ticks(kStandSettle);
-}
-
-int Controller::StandTicks(const a1::JointArray<double>& from, const a1::JointArray<double>& to) const {
-  double farthest = 0.0;
-  for (int j = 0; j < a1::kNumJoints; ++j) farthest = std::max(farthest, std::abs(to[j] - from[j]));
-  return std::max(1, Ticks(farthest / config_.stand_joint_speed)) + Ticks(kStandSettle);
+  return (backend_fault_[0] == '\0' ? 0u : kFaultBackend) | SafetySupervisor::Hazards(robot_, config_.safety);
 }
 
 void Controller::SettledStand() {
-  if (lying_down_) {  // down on its belly: now up again
+  if (state_ == ControlState::kLieDown) {  // down on its belly: now up again
     EnterStand();
     return;
   }
-  if (Standing()) {
-    unverified_ticks_ = 0;
-    if (pending_mode_ != Mode::kIdle) StartPending();
-    return;
+  switch (stand_.Verify(robot_)) {
+    case StandSequence::Verdict::kStanding:
+      if (pending_.state != ControlState::kIdle) StartPending();
+      return;
+    case StandSequence::Verdict::kSettling: return;  // still settling, maybe
+    case StandSequence::Verdict::kRecover:
+      state_ = ControlState::kLieDown;
+      stand_.MoveTo(robot_, StandSequence::kLyingPose);
+      return;
+    case StandSequence::Verdict::kFailed: break;
   }
-  if (++unverified_ticks_ < Ticks(config_.stand_check.timeout)) return;  // still settling, maybe
-  if (recoveries_ < config_.stand_check.max_recoveries) {
-    ++recoveries_;
-    LieDown();
-    return;
-  }
-  unverified_ticks_ = 0;
-  if (pending_mode_ == Mode::kIdle) return;  // a plain stand holds on as it is
+  if (pending_.state == ControlState::kIdle) return;  // a plain stand holds on as it is
   char why[112];
-  Standing(why, sizeof why);
+  stand_.Standing(robot_, why, sizeof why);
   char message[192];
   std::snprintf(message, sizeof message, "not standing after %d lie-down and stand-up recoveries (%s); not started",
-                recoveries_, why);
-  EndTask(TaskState::kSafetyStop, message);
-  pending_mode_ = Mode::kIdle;
-  pending_ticks_ = 0;
+                stand_.recoveries(), why);
+  task_.End(TaskState::kSafetyStop, message);
+  pending_ = PendingTask{};
 }
 
 void Controller::StartPending() {
-  mode_ = pending_mode_;
-  skill_ = mode_ == Mode::kSkill ? pending_skill_ : -1;
-  task_ticks_left_ = pending_ticks_;
-  pending_mode_ = Mode::kIdle;
-  pending_ticks_ = 0;
+  state_ = pending_.state;
+  skill_ = state_ == ControlState::kSkill ? pending_.skill : -1;
+  task_ticks_left_ = pending_.ticks;
+  pending_ = PendingTask{};
   previous_action_.fill(0.0f);  // as at the start of a training episode
-  target_filter_.Reset(state_.joint_position);
-  if (HierarchicalPolicy* hierarchy = Hierarchy(mode_)) hierarchy->Reset();
-}
-
-bool Controller::Standing(char* why, std::size_t size) const {
-  const StandCheckConfig& c = config_.stand_check;
-  int worst_error = 0, fastest = 0;
-  for (int j = 1; j < a1::kNumJoints; ++j) {
-    const auto error = [&](int k) { return std::abs(state_.joint_position[k] - a1::kDefaultJointPos[k]); };
-    if (!(error(j) <= error(worst_error))) worst_error = j;  // a NaN is the worst
-    if (!(std::abs(state_.joint_velocity[j]) <= std::abs(state_.joint_velocity[fastest]))) fastest = j;
-  }
-  const double tilt = TiltOf(state_);
-  const double height = state_.base_position.z();
-  const double error = std::abs(state_.joint_position[worst_error] - a1::kDefaultJointPos[worst_error]);
-  const double speed = std::abs(state_.joint_velocity[fastest]);
-  const double turn_rate = state_.base_angular_velocity.norm();
-  const bool upright = tilt <= c.max_tilt;
-  const bool high = c.min_base_height <= 0.0 || height >= c.min_base_height;
-  const bool posed = error <= c.max_joint_error;
-  const bool still = speed <= c.max_joint_speed && turn_rate <= c.max_turn_rate;
-  if (upright && high && posed && still) return true;
-  if (why == nullptr || size == 0) return false;
-  why[0] = '\0';
-  std::size_t used = 0;
-  const auto add = [&](const char* format, auto... args) {
-    const int n = std::snprintf(why + used, size - used, format, used == 0 ? "" : "; ", args...);
-    if (n > 0) used = std::min(size - 1, used + static_cast<std::size_t>(n));
-  };
-  if (!upright) add("%stilt %.2f rad > %.2f", tilt, c.max_tilt);
-  if (!high) add("%sbase %.3f m < %.3f", height, c.min_base_height);
-  if (!posed) add("%s%s %.2f rad off the stand > %.2f", a1::kJointNames[worst_error], error, c.max_joint_error);
-  if (!(speed <= c.max_joint_speed)) add("%s%s at %.1f rad/s > %.1f", a1::kJointNames[fastest], speed, c.max_joint_speed);
-  if (!(turn_rate <= c.max_turn_rate)) add("%sbase turning at %.2f rad/s > %.2f", turn_rate, c.max_turn_rate);
-  return false;
+  target_filter_.Reset(robot_.joint_position);
+  if (HierarchicalPolicy* hierarchy = Hierarchy(state_)) hierarchy->Reset();
 }
 
 void Controller::EnterDamp(uint32_t faults) {
-  if (task_.state == TaskState::kRunning) {
+  if (task_.running()) {
     char message[192];
-    DescribeFaults(faults, state_, config_.safety, message, sizeof message, backend_fault_.data());
-    EndTask(TaskState::kSafetyStop, message);
+    DescribeFaults(faults, robot_, config_.safety, message, sizeof message, backend_fault_.data());
+    task_.End(TaskState::kSafetyStop, message);
   }
-  mode_ = Mode::kDamp;
+  state_ = ControlState::kDamp;
   skill_ = -1;
-  pending_mode_ = Mode::kIdle;
+  pending_ = PendingTask{};
   latched_faults_ |= faults;
   ++safety_trips_;
-  DescribeFaults(latched_faults_, state_, config_.safety, fault_message_.data(), fault_message_.size(),
+  DescribeFaults(latched_faults_, robot_, config_.safety, fault_message_.data(), fault_message_.size(),
                  backend_fault_.data());
 }
 
-void Controller::StartTask(const ControlRequest& request, const char* call) {
-  task_ = TaskStatus{};
-  task_.client_id = request.client_id;
-  task_.request_id = request.request_id;
-  SetText(task_.call, call);
-  task_.state = TaskState::kRunning;
-  task_start_tick_ = tick_;
-}
-
-void Controller::EndTask(TaskState state, const char* message) {
-  task_.state = state;
-  task_.remaining = 0.0;
-  SetText(task_.message, message);
-}
-
 JointCommand Controller::StandCommand() {
-  if (Braking()) {
-    if (brake_ticks_left_ > 0) {
-      --brake_ticks_left_;
-      return SkillCommand();
-    }
-    skill_ = -1;  // braked: now the stand's targets hold the legs
-    MoveTargets(a1::kDefaultJointPos);
+  if (state_ == ControlState::kBrake) {
+    if (stand_.TakeBrakeTick()) return SkillCommand();
+    state_ = ControlState::kRise;  // braked: now the stand's targets hold the legs
+    skill_ = -1;
+    stand_.MoveTo(robot_, a1::kDefaultJointPos);
   }
-  const double s = std::min(1.0, static_cast<double>(stand_ticks_) / stand_move_ticks_);
-  a1::JointArray<double> target;
-  for (int j = 0; j < a1::kNumJoints; ++j) target[j] = stand_from_[j] + s * (stand_to_[j] - stand_from_[j]);
-  if (stand_ticks_ < stand_total_ticks_) ++stand_ticks_;
-  JointCommand command;
-  command.position = target;
-  command.kp.fill(config_.stand_kp);
-  command.kd.fill(config_.stand_kd);
+  const JointCommand command = stand_.Command();
+  if (state_ == ControlState::kRise && stand_.settled()) state_ = ControlState::kStand;
   return command;
 }
 
 JointCommand Controller::SkillCommand() {
-  BuildMotionObservation(state_, motion_obs_.data());
+  BuildMotionObservation(robot_, motion_obs_.data());
   runner_.Act(motion_obs_.data(), previous_action_.data(), skill_, action_.data());
   return PolicyCommand();
 }
 
 JointCommand Controller::VelocityCommand() {
-  BuildMotionObservation(state_, motion_obs_.data());
-  skill_ = Hierarchy(mode_)->Act(motion_obs_.data(), velocity_command_.data(), previous_action_.data(), action_.data());
+  BuildMotionObservation(robot_, motion_obs_.data());
+  skill_ = Hierarchy(state_)->Act(motion_obs_.data(), velocity_command_.data(), previous_action_.data(), action_.data());
   return PolicyCommand();
 }
 
@@ -505,11 +390,11 @@ bool Controller::TakeTaskTick() {
 }
 
 JointCommand Controller::EndTimedTask() {
-  if (mode_ == Mode::kNavigate) {
-    EndTask(TaskState::kTimeout, "the navigation ran out of time");
+  if (state_ == ControlState::kNavigate) {
+    task_.End(TaskState::kTimeout, "the navigation ran out of time");
   } else {
-    EndTask(TaskState::kSucceeded,
-            mode_ == Mode::kSkill ? "skill ran for its duration" : "velocity tracked for its duration");
+    task_.End(TaskState::kSucceeded,
+              state_ == ControlState::kSkill ? "skill ran for its duration" : "velocity tracked for its duration");
   }
   EnterStand();
   return StandCommand();
@@ -519,10 +404,10 @@ void Controller::Publish() {
   {
     std::lock_guard<std::mutex> lock(status_mutex_);
     ControllerStatus& s = published_;
-    s.state = state_;
+    s.state = robot_;
     s.tick = tick_;
     s.time = static_cast<double>(tick_) * a1::kControlDt;
-    s.mode = mode_;
+    s.mode = mode();
     s.skill = skill_;
     s.faults = latched_faults_;
     s.fault_message = fault_message_;
@@ -531,7 +416,7 @@ void Controller::Publish() {
     s.stop_time = stop_time_;
     s.hazards = hazards_;
     s.backend_fault = backend_fault_;
-    s.task = task_;
+    s.task = task_.status();
   }
   status_changed_.notify_all();
 }

@@ -213,7 +213,7 @@ void DdsService::PublishState() {
     m.task.remaining = s.task.remaining;
     m.task.message = s.task.message.data();
     std::vector<double> path;
-    if (navigator_ && std::string(s.task.call.data()) == dds::CallName(dds::Call::kNavigate)) path = navigator_->Path();
+    if (navigator_ && std::string(s.task.call.data()) == CallName(Call::kNavigate)) path = navigator_->Path();
     m.task.path._buffer = path.data();
     m.task.path._length = m.task.path._maximum = static_cast<uint32_t>(path.size());
     m.task.path._release = false;

@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "comm/modes.h"
+#include "api/modes.h"
 #include "server/controller.h"
 #include "server/navigation/map2d.h"
 #include "server/navigation/path_planner.h"

@@ -145,37 +145,37 @@ std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& requ
 std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& request, const std::string& client_id,
                                                      double now, const DeferredReply& later) {
   const std::string name = request.call != nullptr ? request.call : "";
-  const std::optional<dds::Call> found = dds::FindCall(name);
-  if (!found) return Reply(ReplyStatus::kUnknownCall, "unknown call '" + name + "'; known calls: " + dds::KnownCalls());
-  const dds::Call call = *found;
-  if (call == dds::Call::kListSkills) {
+  const std::optional<Call> found = FindCall(name);
+  if (!found) return Reply(ReplyStatus::kUnknownCall, "unknown call '" + name + "'; known calls: " + KnownCalls());
+  const Call call = *found;
+  if (call == Call::kListSkills) {
     ReplyContent r = Reply(ReplyStatus::kOk, std::to_string(controller_.library().num_skills()) + " skills");
     r.with_skills = true;
     return r;
   }
-  if (call == dds::Call::kStatus) return Reply(ReplyStatus::kOk, StatusText(controller_.status()));
-  if (call == dds::Call::kAcquireControl) {
+  if (call == Call::kStatus) return Reply(ReplyStatus::kOk, StatusText(controller_.status()));
+  if (call == Call::kAcquireControl) {
     if (!lease_.Acquire(client_id, now)) {
       return Reply(ReplyStatus::kNotInControl, "control is held by " + lease_.holder());
     }
     return Reply(ReplyStatus::kOk, "control granted; it lapses after " + Seconds(lease_.timeout()) +
                                           " without a request from this client");
   }
-  if (call == dds::Call::kRenewControl) {  // a heartbeat: never grants a lease that is not held
+  if (call == Call::kRenewControl) {  // a heartbeat: never grants a lease that is not held
     if (!lease_.Renew(client_id, now)) {
       return Reply(ReplyStatus::kNotInControl, lease_.held() ? "control is held by " + lease_.holder()
                                                                   : std::string("this client does not hold control"));
     }
     return Reply(ReplyStatus::kOk, "control renewed");
   }
-  if (call == dds::Call::kReleaseControl) {
+  if (call == Call::kReleaseControl) {
     if (!lease_.Release(client_id)) {
       return Reply(ReplyStatus::kNotInControl, "this client does not hold control");
     }
     StopTaskOf(client_id, TaskState::kCancelled, "control released", request.header.request_id);
     return Reply(ReplyStatus::kOk, "control released; the robot stands");
   }
-  if (call == dds::Call::kDamp) {  // the emergency stop: anyone may press it
+  if (call == Call::kDamp) {  // the emergency stop: anyone may press it
     ControlRequest damp;
     damp.kind = ControlRequest::Kind::kDamp;
     SetText(damp.reason, ("emergency stop from " + client_id).c_str());
@@ -185,8 +185,8 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     return Reply(ReplyStatus::kOk, "damping; latched until clear_stop (from this client, or from any after " +
                                           Seconds(config_.safety.stop_hold_time) + "), then stand");
   }
-  if (call == dds::Call::kClearStop) return ClearStop(client_id);
-  FLSD_DEMAND(dds::Spec(call).needs_control);  // every other call moves the robot
+  if (call == Call::kClearStop) return ClearStop(client_id);
+  FLSD_DEMAND(Spec(call).needs_control);  // every other call moves the robot
   if (!lease_.Renew(client_id, now)) {
     return Reply(ReplyStatus::kNotInControl,
                  lease_.held() ? "control is held by " + lease_.holder()
@@ -195,11 +195,11 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
   return Motion(request, call, client_id, later);
 }
 
-std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& request, dds::Call call,
+std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& request, Call call,
                                                    const std::string& client_id, const DeferredReply& later) {
   const ControllerStatus status = controller_.status();
   ControlRequest control;
-  if (call == dds::Call::kExecuteSkill) {
+  if (call == Call::kExecuteSkill) {
     const int k = request.skill;
     if (k < 0 || k >= controller_.library().num_skills()) {
       return Reply(ReplyStatus::kInvalidArgument, "skill " + std::to_string(k) + " is not in [0, " +
@@ -230,26 +230,26 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
     return Reply(ReplyStatus::kOk, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
                                           " accepted; progress is on the state topic");
   }
-  if (call == dds::Call::kTrackVelocity || call == dds::Call::kNavigate) return Velocity(request, call, client_id, later);
-  if (call == dds::Call::kReset && !controller_.backend_can_reset()) {
+  if (call == Call::kTrackVelocity || call == Call::kNavigate) return Velocity(request, call, client_id, later);
+  if (call == Call::kReset && !controller_.backend_can_reset()) {
     return Reply(ReplyStatus::kNotAvailable, "this backend cannot reset the robot; stand it up by hand");
   }
-  if ((call == dds::Call::kStand || call == dds::Call::kReset) && (status.faults & kFaultStop)) {
-    return Reply(ReplyStatus::kSafetyStop, std::string("cannot ") + dds::CallName(call) + ": " + EmergencyStopText(status));
+  if ((call == Call::kStand || call == Call::kReset) && (status.faults & kFaultStop)) {
+    return Reply(ReplyStatus::kSafetyStop, std::string("cannot ") + CallName(call) + ": " + EmergencyStopText(status));
   }
-  if (call == dds::Call::kStand && status.hazards != 0) {
+  if (call == Call::kStand && status.hazards != 0) {
     // Standing clears a latched stop, but only once the robot is upright, in range and sensed.
     return Reply(ReplyStatus::kSafetyStop, "cannot stand: " + HazardText(status));
   }
-  control.kind = call == dds::Call::kStand ? ControlRequest::Kind::kStand
-                 : call == dds::Call::kStop ? ControlRequest::Kind::kStop
+  control.kind = call == Call::kStand ? ControlRequest::Kind::kStand
+                 : call == Call::kStop ? ControlRequest::Kind::kStop
                                             : ControlRequest::Kind::kReset;
   SetText(control.reason, ("stopped by " + client_id).c_str());
   if (!Submit(control, client_id, request.header.request_id)) {
     return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
   }
-  return Reply(ReplyStatus::kOk, call == dds::Call::kStand  ? "standing"
-                                    : call == dds::Call::kStop ? "stopping; the robot stands"
+  return Reply(ReplyStatus::kOk, call == Call::kStand  ? "standing"
+                                    : call == Call::kStop ? "stopping; the robot stands"
                                                                : "reset");
 }
 
@@ -301,12 +301,12 @@ ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
   return Reply(ReplyStatus::kOk, "emergency stop cleared; the robot stays damped until stand");
 }
 
-std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, dds::Call call,
+std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, Call call,
                                                      const std::string& client_id, const DeferredReply& later) {
-  const bool navigation = call == dds::Call::kNavigate;
+  const bool navigation = call == Call::kNavigate;
   if (!controller_.selector(navigation)) {
     return Reply(ReplyStatus::kNotAvailable,
-                 std::string(dds::CallName(call)) + " is not available: the skill library " +
+                 std::string(CallName(call)) + " is not available: the skill library " +
                      controller_.library().path() + " has no skill selector (flsd export-selector adds one) and the " +
                      "server's " + (navigation ? "navigation.selector" : "selector") + " is '" +
                      (navigation ? config_.navigation.selector : config_.selector) + "'");
@@ -316,7 +316,7 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
   std::string accepted;
   std::optional<NavigationJob> job;
   std::string map_yaml;
-  if (call == dds::Call::kTrackVelocity) {
+  if (call == Call::kTrackVelocity) {
     if (!AllFinite(request.velocity, 3)) return Reply(ReplyStatus::kInvalidArgument, "velocity must be finite");
     if (const std::string why = DurationError(request.duration, config_.max_duration); !why.empty()) {
       return Reply(ReplyStatus::kInvalidArgument, why);
@@ -412,7 +412,7 @@ bool RequestHandler::Submit(ControlRequest request, const std::string& client_id
 }
 
 std::string RequestHandler::StatusText(const ControllerStatus& s) const {
-  std::string text = std::string("mode ") + dds::ModeName(dds::ToIdl(s.mode));
+  std::string text = std::string("mode ") + Name(s.mode);
   if (s.skill >= 0) {
     const std::string k = std::to_string(s.skill);
     text += s.mode == Mode::kStand ? " (skill " + k + " braking the last motion)" : " " + k;

@@ -68,9 +68,9 @@ class RequestHandler {
   // nullopt: answered through `later`.
   std::optional<ReplyContent> Dispatch(const flsd_msgs_Request& request, const std::string& client_id, double now,
                                        const DeferredReply& later);
-  std::optional<ReplyContent> Motion(const flsd_msgs_Request& request, dds::Call call, const std::string& client_id,
+  std::optional<ReplyContent> Motion(const flsd_msgs_Request& request, Call call, const std::string& client_id,
                                      const DeferredReply& later);
-  std::optional<ReplyContent> Velocity(const flsd_msgs_Request& request, dds::Call call, const std::string& client_id,
+  std::optional<ReplyContent> Velocity(const flsd_msgs_Request& request, Call call, const std::string& client_id,
                                        const DeferredReply& later);
   // A stop of `client_id`'s task, never lost to a full queue, and of a navigation still reading its map.
   // `before` (nonzero): only a task that request preceded; the client may start the next at once.

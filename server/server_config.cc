@@ -1,5 +1,6 @@
 #include "server/server_config.h"
 
+#include "comm/security.h"
 #include "core/check.h"
 #include "skills/runtime/hierarchical_policy.h"
 

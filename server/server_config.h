@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "comm/security.h"
+#include "comm/security_config.h"
 #include "core/config.h"
 #include "hw/hw_config.h"
 #include "robot/a1.h"

@@ -85,31 +85,31 @@ HttpResponse WebApp::Events() const {
 }
 
 HttpResponse WebApp::Call(const std::string& name, const std::string& body) {
-  const std::optional<dds::Call> call = dds::FindCall(name);
+  const std::optional<flsd::Call> call = FindCall(name);
   std::function<Reply()> make;
   try {
     const json args = body.empty() ? json::object() : json::parse(body);
     if (!args.is_object()) return Refused(400, "the body is not a JSON object");
     const auto number = [&](const char* key) { return args.value(key, 0.0); };
-    switch (call.value_or(dds::Call::kStatus)) {
-      case dds::Call::kDamp: make = [this] { return client_.Damp(); }; break;
-      case dds::Call::kClearStop: make = [this] { return client_.ClearStop(); }; break;
-      case dds::Call::kReleaseControl: make = [this] { return client_.ReleaseControl(); }; break;
-      case dds::Call::kStand: make = [this] { return client_.Stand(); }; break;
-      case dds::Call::kStop: make = [this] { return client_.Stop(); }; break;
-      case dds::Call::kReset: make = [this] { return client_.Reset(); }; break;
-      case dds::Call::kExecuteSkill: {
+    switch (call.value_or(flsd::Call::kStatus)) {
+      case flsd::Call::kDamp: make = [this] { return client_.Damp(); }; break;
+      case flsd::Call::kClearStop: make = [this] { return client_.ClearStop(); }; break;
+      case flsd::Call::kReleaseControl: make = [this] { return client_.ReleaseControl(); }; break;
+      case flsd::Call::kStand: make = [this] { return client_.Stand(); }; break;
+      case flsd::Call::kStop: make = [this] { return client_.Stop(); }; break;
+      case flsd::Call::kReset: make = [this] { return client_.Reset(); }; break;
+      case flsd::Call::kExecuteSkill: {
         const int skill = args.at("skill").get<int>();
         const double duration = number("duration");
         make = [this, skill, duration] { return client_.ExecuteSkill(skill, duration).reply(); };
         break;
       }
-      case dds::Call::kTrackVelocity: {
+      case flsd::Call::kTrackVelocity: {
         const double vx = number("vx"), vy = number("vy"), wz = number("wz"), duration = number("duration");
         make = [=] { return client_.TrackVelocity(vx, vy, wz, duration).reply(); };
         break;
       }
-      case dds::Call::kNavigate: {
+      case flsd::Call::kNavigate: {
         const double x = args.at("x").get<double>(), y = args.at("y").get<double>();
         make = [this, x, y] { return client_.Navigate(x, y).reply(); };
         break;
@@ -121,8 +121,8 @@ HttpResponse WebApp::Call(const std::string& name, const std::string& body) {
     return Refused(400, std::string("bad arguments: ") + e.what());
   }
   // Like any client: take the lease (or keep it) before a call that needs it.
-  Reply reply = dds::Spec(*call).needs_control ? client_.AcquireControl() : Reply{};
-  if (!dds::Spec(*call).needs_control || reply.ok()) reply = make();
+  Reply reply = Spec(*call).needs_control ? client_.AcquireControl() : Reply{};
+  if (!Spec(*call).needs_control || reply.ok()) reply = make();
   return HttpResponse::Json(200, ToJson(reply).dump());
 }
 

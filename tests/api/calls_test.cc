@@ -6,12 +6,12 @@
 #include <set>
 #include <string>
 
-#include "comm/protocol.h"
+#include "api/calls.h"
 
-namespace flsd::dds {
+namespace flsd {
 namespace {
 
-TEST(ProtocolTest, EveryCallNameFindsItsCallAndNamesAreUnique) {
+TEST(Calls, EveryCallNameFindsItsCallAndNamesAreUnique) {
   std::set<std::string> names;
   for (const CallSpec& spec : kCallSpecs) {
     ASSERT_EQ(FindCall(spec.name), spec.call) << spec.name;
@@ -23,7 +23,7 @@ TEST(ProtocolTest, EveryCallNameFindsItsCallAndNamesAreUnique) {
   EXPECT_STREQ(CallName(Call::kTrackVelocity), "track_velocity");
 }
 
-TEST(ProtocolTest, UnknownAndNearMissNamesFindNothing) {
+TEST(Calls, UnknownAndNearMissNamesFindNothing) {
   EXPECT_FALSE(FindCall(""));
   EXPECT_FALSE(FindCall("self_destruct"));
   EXPECT_FALSE(FindCall("Status"));
@@ -31,7 +31,7 @@ TEST(ProtocolTest, UnknownAndNearMissNamesFindNothing) {
   EXPECT_FALSE(FindCall(std::string_view("status\0x", 8)));
 }
 
-TEST(ProtocolTest, LongCallsAreTheThreeMotionsAndControlGuardsEveryMotion) {
+TEST(Calls, LongCallsAreTheThreeMotionsAndControlGuardsEveryMotion) {
   std::set<std::string> long_running, controlled;
   for (const CallSpec& spec : kCallSpecs) {
     if (spec.long_running) long_running.insert(spec.name);
@@ -41,17 +41,11 @@ TEST(ProtocolTest, LongCallsAreTheThreeMotionsAndControlGuardsEveryMotion) {
   EXPECT_EQ(controlled, (std::set<std::string>{"execute_skill", "track_velocity", "navigate", "stop", "stand", "reset"}));
 }
 
-TEST(ProtocolTest, KnownCallsListsEveryNameOnceInTableOrder) {
+TEST(Calls, KnownCallsListsEveryNameOnceInTableOrder) {
   EXPECT_EQ(KnownCalls(),
             "list_skills, status, execute_skill, track_velocity, navigate, stop, stand, damp, clear_stop, "
             "acquire_control, renew_control, release_control, reset");
 }
 
-TEST(ProtocolTest, EnumNamesForPeople) {
-  EXPECT_STREQ(ModeName(flsd_msgs_MODE_NAVIGATE), "navigate");
-  EXPECT_STREQ(StatusName(flsd_msgs_STATUS_NOT_IN_CONTROL), "not in control");
-  EXPECT_STREQ(TaskStateName(flsd_msgs_TASK_LEASE_LOST), "lease lost");
-}
-
 }  // namespace
-}  // namespace flsd::dds
+}  // namespace flsd

@@ -1,5 +1,6 @@
 #include "render/image.h"
 
+#include <gif_lib.h>
 #include <png.h>
 #include <unistd.h>
 
@@ -7,6 +8,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <utility>
 
 #include "core/atomic_file.h"
 #include "core/check.h"
@@ -123,113 +125,10 @@ int DitheredLevel(int value, int levels, int bayer) {
   return (value * (levels - 1) * 32 + (2 * bayer + 1) * 255) / (255 * 32);
 }
 
-void AppendU16(std::string& out, int v) {
-  out.push_back(static_cast<char>(v & 0xFF));
-  out.push_back(static_cast<char>((v >> 8) & 0xFF));
-}
-
-// GIF's LZW: codes 0-255 are the palette indices, 256 clears the table, 257 ends the data;
-// strings get codes from 258 up to 4095, and codes are as wide as the largest one assigned
-// (9 to 12 bits), packed least significant bit first.
-constexpr int kClearCode = 256, kEndCode = 257, kFirstCode = 258, kMaxCodes = 4096, kMinCodeSize = 8;
-
-// Strings known to the encoder, each a known string (`prefix` code) plus one index; an
-// open-addressed hash table that is cheap to clear, which happens every few thousand codes.
-class CodeTable {
- public:
-  void Clear() {
-    std::fill(keys_.begin(), keys_.end(), -1);
-    next_ = kFirstCode;
-  }
-  // The slot holding (prefix, index), or the empty slot where it would go.
-  int Slot(int prefix, uint8_t index) const {
-    const int32_t key = (prefix << 8) | index;
-    uint32_t slot = (static_cast<uint32_t>(key) * 2654435761u) >> (32 - kSlotBits);
-    while (keys_[slot] != -1 && keys_[slot] != key) slot = (slot + 1) & (kSlots - 1);
-    return static_cast<int>(slot);
-  }
-  bool Holds(int slot) const { return keys_[slot] != -1; }
-  int Code(int slot) const { return codes_[slot]; }
-  bool Full() const { return next_ == kMaxCodes; }
-  // Gives (prefix, index) the next free code, at the empty `slot` Slot() returned; returns it.
-  int Insert(int slot, int prefix, uint8_t index) {
-    keys_[slot] = (prefix << 8) | index;
-    codes_[slot] = static_cast<uint16_t>(next_);
-    return next_++;
-  }
-  int next() const { return next_; }
-
- private:
-  static constexpr int kSlotBits = 13;
-  static constexpr int kSlots = 1 << kSlotBits;  // twice the codes: probe sequences stay short
-  std::vector<int32_t> keys_ = std::vector<int32_t>(kSlots, -1);
-  std::vector<uint16_t> codes_ = std::vector<uint16_t>(kSlots, 0);
-  int next_ = kFirstCode;
-};
-
-class BitWriter {
- public:
-  void Put(int code, int width) {
-    buffer_ |= static_cast<uint32_t>(code) << count_;
-    count_ += width;
-    while (count_ >= 8) {
-      bytes_.push_back(static_cast<char>(buffer_ & 0xFF));
-      buffer_ >>= 8;
-      count_ -= 8;
-    }
-  }
-  std::string Finish() {
-    if (count_ > 0) bytes_.push_back(static_cast<char>(buffer_ & 0xFF));
-    return std::move(bytes_);
-  }
-
- private:
-  std::string bytes_;
-  uint32_t buffer_ = 0;
-  int count_ = 0;
-};
-
-std::string LzwEncode(const std::vector<uint8_t>& indices) {
-  CodeTable table;
-  BitWriter bits;
-  int width = kMinCodeSize + 1;
-  bits.Put(kClearCode, width);
-  int prefix = indices[0];
-  for (size_t i = 1; i < indices.size(); ++i) {
-    const uint8_t index = indices[i];
-    const int slot = table.Slot(prefix, index);
-    if (table.Holds(slot)) {
-      prefix = table.Code(slot);
-      continue;
-    }
-    bits.Put(prefix, width);
-    if (!table.Full()) {
-      // a code of 2^width needs one bit more
-      if (table.Insert(slot, prefix, index) == (1 << width)) ++width;
-    } else {
-      bits.Put(kClearCode, width);
-      table.Clear();
-      width = kMinCodeSize + 1;
-    }
-    prefix = index;
-  }
-  bits.Put(prefix, width);
-  // Reading that last code, the decoder assigns one more code, as it does for every code but
-  // the first after a clear; the end code must be as wide as the decoder then expects.
-  if (!table.Full() && table.next() == (1 << width)) ++width;
-  bits.Put(kEndCode, width);
-  return bits.Finish();
-}
-
-// Image data is a sequence of sub-blocks of at most 255 bytes, each after its length, and an
-// empty one.
-void AppendSubBlocks(const std::string& data, std::string& out) {
-  for (size_t at = 0; at < data.size(); at += 255) {
-    const size_t n = std::min<size_t>(255, data.size() - at);
-    out.push_back(static_cast<char>(n));
-    out.append(data, at, n);
-  }
-  out.push_back('\0');
+// giflib writes the encoded file through this, into the writer's memory.
+int AppendToString(GifFileType* gif, const GifByteType* data, int length) {
+  static_cast<std::string*>(gif->UserData)->append(reinterpret_cast<const char*>(data), length);
+  return length;
 }
 
 }  // namespace
@@ -260,20 +159,32 @@ GifWriter::GifWriter(std::string path, int width, int height, int delay_cs)
     throw InputError(path_ + ": a GIF frame shows for 1 to 65535 hundredths of a second, not " +
                      std::to_string(delay_cs));
   }
-  bytes_ = "GIF89a";
-  // logical screen: global palette of 2^(7+1) colours, 8 bits per primary, background index 0
-  AppendU16(bytes_, width);
-  AppendU16(bytes_, height);
-  bytes_ += {'\xF7', '\0', '\0'};
-  for (const Rgb& c : GifPalette()) bytes_ += {static_cast<char>(c.r), static_cast<char>(c.g), static_cast<char>(c.b)};
+  int error = 0;
+  gif_ = EGifOpen(&bytes_, AppendToString, &error);
+  if (gif_ == nullptr) throw InputError(path_ + ": giflib: " + GifErrorString(error));
+  EGifSetGifVersion(gif_, true);
+  std::array<GifColorType, 256> colours;
+  for (size_t i = 0; i < colours.size(); ++i) colours[i] = {GifPalette()[i].r, GifPalette()[i].g, GifPalette()[i].b};
+  ColorMapObject* palette = GifMakeMapObject(static_cast<int>(colours.size()), colours.data());
+  const bool written = palette != nullptr && EGifPutScreenDesc(gif_, width, height, 8, 0, palette) == GIF_OK;
+  GifFreeMapObject(palette);
   // NETSCAPE2.0 application extension: loop count 0, i.e. forever
-  bytes_ += {'\x21', '\xFF', '\x0B'};
-  bytes_ += "NETSCAPE2.0";
-  bytes_ += {'\x03', '\x01', '\0', '\0', '\0'};
+  const GifByteType loop[] = {1, 0, 0};
+  Check(written && EGifPutExtensionLeader(gif_, APPLICATION_EXT_FUNC_CODE) == GIF_OK &&
+        EGifPutExtensionBlock(gif_, 11, reinterpret_cast<const GifByteType*>("NETSCAPE2.0")) == GIF_OK &&
+        EGifPutExtensionBlock(gif_, sizeof loop, loop) == GIF_OK && EGifPutExtensionTrailer(gif_) == GIF_OK);
+}
+
+GifWriter::~GifWriter() {
+  if (gif_ != nullptr) EGifCloseFile(gif_, nullptr);  // not closed: nothing is written
+}
+
+void GifWriter::Check(bool ok) const {
+  if (!ok) throw InputError(path_ + ": giflib: " + GifErrorString(gif_->Error));
 }
 
 void GifWriter::AddFrame(const Image& frame) {
-  FLSD_DEMAND(!closed_);
+  FLSD_DEMAND(gif_ != nullptr);
   if (frame.width != width_ || frame.height != height_) {
     throw InputError(path_ + ": a frame of " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
                      " in a " + std::to_string(width_) + "x" + std::to_string(height_) + " GIF");
@@ -288,27 +199,26 @@ void GifWriter::AddFrame(const Image& frame) {
           DitheredLevel(c.b, kBlueLevels, t));
     }
   }
-  // graphic control extension: leave the frame in place (disposal 1), show it delay_cs_
-  bytes_ += {'\x21', '\xF9', '\x04', '\x04'};
-  AppendU16(bytes_, delay_cs_);
-  bytes_ += {'\0', '\0'};
-  // image descriptor: the whole screen, global palette, not interlaced
-  bytes_ += '\x2C';
-  AppendU16(bytes_, 0);
-  AppendU16(bytes_, 0);
-  AppendU16(bytes_, width_);
-  AppendU16(bytes_, height_);
-  bytes_ += '\0';
-  bytes_ += static_cast<char>(kMinCodeSize);
-  AppendSubBlocks(LzwEncode(indices_), bytes_);
+  // graphic control extension: leave the frame in place, show it delay_cs_
+  GraphicsControlBlock control{};
+  control.DisposalMode = DISPOSE_DO_NOT;
+  control.DelayTime = delay_cs_;
+  control.TransparentColor = NO_TRANSPARENT_COLOR;
+  GifByteType extension[4];
+  const size_t size = EGifGCBToExtension(&control, extension);
+  // the whole screen, global palette, not interlaced
+  Check(EGifPutExtension(gif_, GRAPHICS_EXT_FUNC_CODE, static_cast<int>(size), extension) == GIF_OK &&
+        EGifPutImageDesc(gif_, 0, 0, width_, height_, false, nullptr) == GIF_OK &&
+        EGifPutLine(gif_, indices_.data(), static_cast<int>(indices_.size())) == GIF_OK);
   ++frames_;
 }
 
 void GifWriter::Close() {
-  FLSD_DEMAND(!closed_);
-  closed_ = true;
+  FLSD_DEMAND(gif_ != nullptr);
+  GifFileType* gif = std::exchange(gif_, nullptr);
+  int error = 0;
+  if (EGifCloseFile(gif, &error) != GIF_OK) throw InputError(path_ + ": giflib: " + GifErrorString(error));
   if (frames_ == 0) throw InputError(path_ + ": a GIF needs a frame");
-  bytes_ += '\x3B';  // trailer
   WriteFileAtomically(path_, bytes_);
 }
 

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+struct GifFileType;  // giflib's encoder (gif_lib.h)
+
 namespace flsd {
 
 struct Rgb {
@@ -56,23 +58,29 @@ class VideoWriter {
 // (error diffusion would make the floor shimmer) and keeps smooth shading free of bands.
 const std::array<Rgb, 256>& GifPalette();
 
-// An animated GIF89a that loops forever: one global palette, every frame full size and LZW
-// compressed. The file is assembled in memory (a few MB for seconds of video) and written at
-// Close(); a writer destroyed without Close() writes nothing.
+// An animated GIF89a that loops forever: one global palette, every frame full size, encoded by
+// giflib. The file is assembled in memory (a few MB for seconds of video) and written at Close();
+// a writer destroyed without Close() writes nothing. Not copyable: it owns giflib's encoder.
 class GifWriter final : public VideoWriter {
  public:
   // delay_cs: how long each frame shows, in hundredths of a second (GIF's unit), 1 to 65535.
   GifWriter(std::string path, int width, int height, int delay_cs);
+  ~GifWriter() override;
+  GifWriter(const GifWriter&) = delete;
+  GifWriter& operator=(const GifWriter&) = delete;
   void AddFrame(const Image& frame) override;
   void Close() override;
 
  private:
+  // Throws InputError naming the file and giflib's error unless `ok`.
+  void Check(bool ok) const;
+
   std::string path_;
   int width_, height_, delay_cs_;
   std::string bytes_;
+  GifFileType* gif_ = nullptr;  // the encoder, until Close()
   std::vector<uint8_t> indices_;  // the frame being encoded, one palette index per pixel
   int frames_ = 0;
-  bool closed_ = false;
 };
 
 // An H.264 MP4 (MPEG-4 part 2 if this ffmpeg lacks libx264) encoded by an ffmpeg process that

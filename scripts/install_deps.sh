@@ -4,7 +4,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libmujoco-dev libosmesa6-dev libpng-dev
+  libmujoco-dev libosmesa6-dev libpng-dev libgif-dev
   libeigen3-dev liburdfdom-dev
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

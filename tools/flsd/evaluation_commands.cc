@@ -6,12 +6,12 @@
 
 #include "core/paths.h"
 #include "skills/learning/evaluation/evaluation.h"
-#include "skills/learning/evaluation/export.h"
 #include "skills/learning/evaluation/library_eval.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/learning/evaluation/transition_eval.h"
+#include "skills/learning/export/compose_library.h"
+#include "skills/learning/export/export.h"
 #include "skills/learning/runners/training_run.h"
-#include "skills/runtime/compose_library.h"
 #include "skills/runtime/skill_library.h"
 #include "tools/flsd/subcommands.h"
 

@@ -11,7 +11,7 @@
 #include "flsd_commit.h"
 #include "report/skill_report.h"
 #include "skills/learning/evaluation/evaluation.h"
-#include "skills/learning/evaluation/export.h"
+#include "skills/learning/export/export.h"
 #include "skills/learning/runners/run_folder.h"
 #include "skills/learning/tasks/skill_discovery_task.h"
 #include "tools/flsd/subcommands.h"

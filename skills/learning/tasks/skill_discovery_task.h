@@ -16,11 +16,11 @@
 #include "skills/learning/algorithms/train_epochs.h"
 #include "skills/learning/networks/actor_critic.h"
 #include "skills/learning/networks/discriminator.h"
+#include "skills/learning/networks/motion_history.h"
 #include "skills/learning/networks/normalizer.h"
 #include "skills/learning/networks/pae.h"
 #include "skills/learning/runners/rollout_task.h"
 #include "skills/learning/runners/train_config.h"
-#include "skills/learning/tasks/motion_history.h"
 
 namespace flsd {
 

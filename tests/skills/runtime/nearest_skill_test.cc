@@ -13,8 +13,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "skills/learning/evaluation/export.h"
-#include "skills/runtime/compose_library.h"
+#include "skills/learning/export/compose_library.h"
+#include "skills/learning/export/export.h"
 #include "skills/runtime/hierarchical_policy.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"

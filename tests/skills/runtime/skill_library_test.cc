@@ -14,7 +14,7 @@
 
 #include "core/paths.h"
 #include "robot/observation.h"
-#include "skills/learning/evaluation/export.h"
+#include "skills/learning/export/export.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
 #include "tests/skills/runtime/test_libraries.h"

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "robot/observation.h"
-#include "skills/learning/evaluation/export.h"
+#include "skills/learning/export/export.h"
 #include "skills/runtime/safetensors.h"
 
 namespace flsd::testutil {

@@ -10,7 +10,7 @@
 #include <numeric>
 
 #include "core/paths.h"
-#include "skills/runtime/compose_library.h"
+#include "skills/learning/export/compose_library.h"
 #include "tests/common/test_support.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/runtime/nearest_skill.h"

@@ -22,7 +22,7 @@
 #include "robot/observation.h"
 #include "skills/learning/evaluation/evaluation.h"
 #include "server/safety.h"
-#include "skills/learning/evaluation/export.h"
+#include "skills/learning/export/export.h"
 #include "skills/learning/runners/run_folder.h"
 #include "skills/learning/runners/training_run.h"
 #include "skills/runtime/safetensors.h"

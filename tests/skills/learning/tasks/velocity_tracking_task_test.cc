@@ -15,7 +15,7 @@
 
 #include "core/paths.h"
 #include "robot/observation.h"
-#include "skills/learning/evaluation/export.h"
+#include "skills/learning/export/export.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/learning/runners/training_run.h"
 #include "skills/learning/tasks/velocity_command_env.h"

@@ -1,4 +1,4 @@
-#include "skills/learning/evaluation/export.h"
+#include "skills/learning/export/export.h"
 
 #include <filesystem>
 #include <fstream>

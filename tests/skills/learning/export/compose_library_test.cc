@@ -1,7 +1,7 @@
 // ComposeLibraries: skills joined from several libraries run exactly as they did in their own,
 // keep their descriptors and mirror pairs, and what cannot be joined is refused by name.
 
-#include "skills/runtime/compose_library.h"
+#include "skills/learning/export/compose_library.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

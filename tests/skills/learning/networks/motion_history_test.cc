@@ -1,4 +1,4 @@
-#include "skills/learning/tasks/motion_history.h"
+#include "skills/learning/networks/motion_history.h"
 
 #include <gtest/gtest.h>
 

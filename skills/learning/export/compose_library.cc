@@ -1,4 +1,4 @@
-#include "skills/runtime/compose_library.h"
+#include "skills/learning/export/compose_library.h"
 
 #include <algorithm>
 #include <cstdio>

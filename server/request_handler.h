@@ -15,7 +15,7 @@
 #include "flsd_msgs.h"
 #include "server/controller.h"
 #include "server/lease.h"
-#include "server/navigator.h"
+#include "server/navigation/navigator.h"
 
 namespace flsd {
 

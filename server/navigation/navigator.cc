@@ -1,4 +1,4 @@
-#include "server/navigator.h"
+#include "server/navigation/navigator.h"
 
 #include <spdlog/spdlog.h>
 

@@ -13,7 +13,7 @@
 #include "core/check.h"
 #include "core/paths.h"
 #include "core/rng.h"
-#include "server/navigation/map2d.h"
+#include "navigation_map/map2d.h"
 #include "server/navigation/path_planner.h"
 #include "skills/runtime/library_format.h"
 

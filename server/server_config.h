@@ -77,7 +77,7 @@ struct StandCheckConfig {
 
 // navigate: the map used when a request brings none, how long to plan, how to follow.
 struct NavigationConfig {
-  std::string map;                 // YAML map file (server/navigation/map2d.h); empty: requests must send one
+  std::string map;                 // YAML map file (navigation_map/map2d.h); empty: requests must send one
   double planning_time = 0.5;      // s of OMPL planning per (re)plan
   double waypoint_spacing = 0.5;   // m between waypoints at most
   double clearance_margin = 0.15;  // m the path keeps beyond the robot's radius where it can

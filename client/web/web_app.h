@@ -16,7 +16,7 @@
 #include "client/client.h"
 #include "client/web/http_server.h"
 #include "client/web/state_feed.h"
-#include "server/navigation/map2d.h"
+#include "navigation_map/map2d.h"
 
 namespace flsd::web {
 

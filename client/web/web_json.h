@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "client/types.h"
-#include "server/navigation/map2d.h"
+#include "navigation_map/map2d.h"
 
 namespace flsd::web {
 

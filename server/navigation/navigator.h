@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "api/modes.h"
+#include "navigation_map/map2d.h"
 #include "server/controller.h"
-#include "server/navigation/map2d.h"
 #include "server/navigation/path_planner.h"
 
 namespace flsd {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "server/navigation/map2d.h"
+#include "navigation_map/map2d.h"
 
 namespace flsd {
 

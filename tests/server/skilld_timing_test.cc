@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "server/navigation/map2d.h"
+#include "navigation_map/map2d.h"
 #include "tests/common/raw_dds_client.h"
 #include "tests/common/skilld_fixture.h"
 

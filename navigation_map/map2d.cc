@@ -1,4 +1,4 @@
-#include "server/navigation/map2d.h"
+#include "navigation_map/map2d.h"
 
 #include <yaml-cpp/yaml.h>
 

@@ -1,7 +1,7 @@
 // Map2D: clearances with known answers, inflation by the robot's radius, and errors that name
 // the key for bad maps.
 
-#include "server/navigation/map2d.h"
+#include "navigation_map/map2d.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

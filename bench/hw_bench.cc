@@ -4,7 +4,7 @@
 #include <thread>
 
 #include "bench/machine.h"
-#include "hw/a1_emulator.h"
+#include "emulator/a1_emulator.h"
 #include "hw/hw_backend.h"
 #include "server/control_loop.h"
 #include "server/server_config.h"

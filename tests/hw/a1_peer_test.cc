@@ -13,7 +13,7 @@
 #include <ostream>
 #include <memory>
 
-#include "hw/a1_emulator.h"
+#include "emulator/a1_emulator.h"
 #include "skills/runtime/skill_library.h"
 #include "tests/common/client_skilld_fixture.h"
 #include "tests/common/skill_choice.h"

@@ -13,7 +13,7 @@
 #include <memory>
 #include <thread>
 
-#include "hw/a1_emulator.h"
+#include "emulator/a1_emulator.h"
 
 namespace flsd::hw {
 namespace {

@@ -17,7 +17,7 @@
 #include <cstdio>
 
 #include "core/paths.h"
-#include "hw/a1_emulator.h"
+#include "emulator/a1_emulator.h"
 #include "robot/observation.h"
 #include "sim/env.h"
 #include "skills/runtime/skill_library.h"

@@ -7,7 +7,7 @@
 
 #include "core/check.h"
 #include "core/signals.h"
-#include "hw/a1_emulator.h"
+#include "emulator/a1_emulator.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"a1_emulator: a simulated A1 behind the low-level UDP protocol"};

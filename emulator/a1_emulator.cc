@@ -1,4 +1,4 @@
-#include "hw/a1_emulator.h"
+#include "emulator/a1_emulator.h"
 
 #include <algorithm>
 #include <chrono>

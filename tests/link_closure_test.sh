@@ -9,6 +9,9 @@
 # - The hardware driver has no MuJoCo: no #include of sim/ or MuJoCo in hw/, nor among what the
 #   compiler read for flsd_hw's objects; and flsd_hw's link closure (that of hw_a1_protocol_test,
 #   which links flsd_hw alone) names no MuJoCo.
+# - The controller knows no DDS: its objects (the controller, its stand sequence, task tracker and
+#   request queue) were compiled from no Cyclone header and no IDL type; the calls and names it
+#   uses are api/'s.
 set -euo pipefail
 build=${1:?usage: link_closure_test.sh BUILD_DIR SOURCE_DIR}
 source=$(cd "${2:?usage: link_closure_test.sh BUILD_DIR SOURCE_DIR}" && pwd)  # as depfiles name it
@@ -37,11 +40,13 @@ includes() {  # source folder, forbidden include pattern (after the < or ")
     failures=$((failures + 1))
   fi
 }
-reads() {  # build folder, target, forbidden paths (fixed strings)...: what the compiler read
-  local folder=$1 target=$2 objects patterns=() hits=""
-  shift 2
-  # The target's objects as its link command lists them (a removed source's stale object is not).
-  objects=$(grep -oE "CMakeFiles/$target\.dir/[^ ]+\.o" "$build/$folder/CMakeFiles/$target.dir/link.txt")
+reads() {  # build folder, target, object pattern, forbidden paths (fixed strings)...: what the compiler read
+  local folder=$1 target=$2 only=$3 objects patterns=() hits=""
+  shift 3
+  # The target's objects as its link command lists them (a removed source's stale object is not),
+  # those whose names match `only`.
+  objects=$(grep -oE "CMakeFiles/$target\.dir/[^ ]+\.o" "$build/$folder/CMakeFiles/$target.dir/link.txt" |
+            grep -E "$only" || true)
   if [ -z "$objects" ]; then
     echo "FAIL: no objects of $target in its link command"
     failures=$((failures + 1))
@@ -65,10 +70,12 @@ check "$build/bin/skilld" "$build/server/CMakeFiles/skilld.dir/link.txt" 'libtor
 check "$build/bin/skillctl" "$build/client/CMakeFiles/skillctl.dir/link.txt" 'libtorch|libc10' 'libmujoco' 'libompl'
 check "$build/bin/skillweb" "$build/client/web/CMakeFiles/skillweb.dir/link.txt" 'libtorch|libc10' 'libmujoco' 'libompl'
 includes client 'server/'
-for target in flsd_client skillctl; do reads client $target "$source/server/"; done
-for target in flsd_web skillweb; do reads client/web $target "$source/server/"; done
+for target in flsd_client skillctl; do reads client $target . "$source/server/"; done
+for target in flsd_web skillweb; do reads client/web $target . "$source/server/"; done
 includes hw 'sim/|mujoco'
-reads hw flsd_hw "$source/sim/" /mujoco/
+reads hw flsd_hw . "$source/sim/" /mujoco/
+reads server flsd_server '/(controller|stand_sequence|task_tracker|request_queue)\.cc\.o$' \
+  /dds/ flsd_msgs.h "$source/comm/dds.h" "$source/comm/protocol.h" "$source/comm/security.h"
 check "$build/tests/hw_a1_protocol_test" "$build/tests/CMakeFiles/hw_a1_protocol_test.dir/link.txt" 'libmujoco'
 echo "link closure and includes: $failures violations"
 [ "$failures" -eq 0 ]

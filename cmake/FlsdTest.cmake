@@ -2,14 +2,9 @@ include(GoogleTest)
 
 # Test sources compile at -O1: gtest's macros are slow to optimise, and the code under test is the
 # project's libraries, which keep the build type's -O3 (measured: tests/server/controller_test.cc
-# 12.5 s at -O3, 8.1 s at -O1). GCC uses a precompiled header only under the optimisation level it
-# was made with, so the tests that include libtorch reuse one made at this level
-# (flsd_test_torch_pch in tests/CMakeLists.txt), not flsd_learning's.
+# 12.5 s at -O3, 8.1 s at -O1). Targets that reuse libtorch's precompiled header keep -O3, which
+# GCC needs to use it (flsd_reuse_torch_pch).
 set(FLSD_TEST_OPTIMIZATION -O1)
-function(flsd_reuse_test_torch_pch target)
-  target_compile_options(${target} PRIVATE ${FLSD_TEST_OPTIMIZATION})
-  target_precompile_headers(${target} REUSE_FROM flsd_test_torch_pch)
-endfunction()
 
 # flsd_test(NAME SOURCE LABEL [RUN_SERIAL] [LIBS...]): one gtest executable whose cases are
 # registered with ctest under LABEL (unit or integration), so `ctest -L unit` selects the fast
@@ -31,7 +26,7 @@ function(flsd_torch_test name source label)
   add_executable(${name} ${source})
   target_link_libraries(${name} PRIVATE GTest::gtest_main ${ARGN})
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
-  flsd_reuse_test_torch_pch(${name})
+  flsd_reuse_torch_pch(${name})
   add_test(NAME ${name} COMMAND ${name})
   set_tests_properties(${name} PROPERTIES LABELS ${label})
 endfunction()

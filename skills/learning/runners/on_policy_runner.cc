@@ -44,7 +44,7 @@ void OnPolicyRunner::Collect(RunnerStats& stats) {
   const bool separate_critic = !rollout_.critic_obs.is_same(rollout_.obs);
   task_.BeginRollout();
   for (int t = 0; t < rollout_.obs.size(0); ++t) {
-    Clock::time_point start = Clock::now();
+    const Clock::time_point start = Clock::now();
     const torch::Tensor obs = Observe(/*update_normalizer=*/true);
     const torch::Tensor critic_obs = task_.CriticObservations(obs);
     const torch::Tensor distribution = policy_->Distribution(obs);
@@ -57,10 +57,7 @@ void OnPolicyRunner::Collect(RunnerStats& stats) {
     rollout_.log_probs[t].copy_(policy_->LogProb(distribution, action));
     rollout_.values[t].copy_(policy_->Value(critic_obs));
     stats.seconds_policy += Since(start);
-
-    start = Clock::now();
     task_.Step(t, action, rollout_);
-    stats.seconds_step += Since(start);
   }
   const Clock::time_point start = Clock::now();
   last_values_ = policy_->Value(task_.CriticObservations(Observe(/*update_normalizer=*/false)));
@@ -88,9 +85,7 @@ RunnerStats OnPolicyRunner::RunIteration() {
   }
   stats.seconds_ppo = Since(phase);
 
-  phase = Clock::now();
   const bool auxiliaries_finite = task_.UpdateAuxiliaries();
-  stats.seconds_task_update = Since(phase);
 
   const RolloutShape shape = task_.shape();
   const long job_steps = static_cast<long>(shape.steps) * shape.envs * task_.control_steps_per_step() * comm_.size();

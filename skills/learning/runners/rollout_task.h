@@ -27,10 +27,10 @@ struct RunnerStats {
   double steps_per_s = 0.0;  // env steps over the whole iteration's wall time
   PpoStats ppo;
   bool finite = true;        // PPO's loss and the task's auxiliary losses
-  // Wall seconds: observing and the policy's forward passes, the task's steps, the whole
-  // collection, the task's end of rollout, PPO, the task's auxiliary updates, the iteration.
-  double seconds_policy = 0.0, seconds_step = 0.0, seconds_collect = 0.0, seconds_finish = 0.0,
-         seconds_ppo = 0.0, seconds_task_update = 0.0, seconds_total = 0.0;
+  // Wall seconds: observing and the policy's forward passes, the whole collection (those and the
+  // task's steps), the task's end of rollout, PPO, the iteration. The task times its own parts.
+  double seconds_policy = 0.0, seconds_collect = 0.0, seconds_finish = 0.0, seconds_ppo = 0.0,
+         seconds_total = 0.0;
   Communicator::Tally collectives;  // MPI collectives within the iteration (none in one process)
 };
 

@@ -15,7 +15,7 @@
 #include "core/rng.h"
 #include "navigation_map/map2d.h"
 #include "server/navigation/path_planner.h"
-#include "skills/runtime/library_format.h"
+#include "skills/runtime/skill_library.h"
 
 namespace flsd {
 namespace {
@@ -108,13 +108,13 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
   // The ideal speed: the fastest skill the server serves (the selector's choices); and the fastest
   // going forward, the way the follower walks, for a library whose top speed is backward.
   double top_speed = 0.0, forward_top_speed = 0.0;
-  for (const SkillInfo& s : client.ListSkills()) {
-    if (!Survives(s.survival_steps)) continue;
-    const double speed = std::hypot(s.linear_velocity[0], s.linear_velocity[1]);
+  for (const SkillDescriptor& s : SkillLibrary::Load(options.library).skills()) {
+    if (!Dependable(s)) continue;
+    const double speed = s.mean_linear_velocity.head<2>().norm();
     top_speed = std::max(top_speed, speed);
-    if (s.linear_velocity[0] > 0.0) forward_top_speed = std::max(forward_top_speed, speed);
+    if (s.mean_linear_velocity.x() > 0.0) forward_top_speed = std::max(forward_top_speed, speed);
   }
-  if (!(top_speed > 0.0)) throw InputError(options.library + ": no skill that survives 500 steps moves");
+  if (!(top_speed > 0.0)) throw InputError(options.library + ": no dependable skill moves");
 
   std::vector<fs::path> files;
   for (const fs::directory_entry& e : fs::directory_iterator(ResolveDataPath("configs/maps"))) {

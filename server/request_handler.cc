@@ -210,13 +210,10 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
     }
     const SkillDescriptor& skill = controller_.library().skills()[k];
     // A real robot is the randomised case: a skill that fell there is as unsafe.
-    if (const std::optional<SkillFall> fall = EarliestFall(skill);
-        fall && fall->steps < config_.safety.min_skill_survival) {
-      return Reply(ReplyStatus::kNotAvailable,
-                   "skill " + std::to_string(k) + " fell after " + std::to_string(fall->steps) + " steps in the library's " +
-                       (fall->randomized ? "randomised evaluation" : "evaluation") +
-                       " (fewer than safety.min_skill_survival = " + std::to_string(config_.safety.min_skill_survival) +
-                       "); it is not run");
+    if (const std::string why = WhyUndependable(skill, config_.safety.min_skill_survival); !why.empty()) {
+      return Reply(ReplyStatus::kNotAvailable, "skill " + std::to_string(k) + " " + why +
+                                                   " (safety.min_skill_survival = " +
+                                                   std::to_string(config_.safety.min_skill_survival) + "); it is not run");
     }
     if (const std::string blocked = MotionBlocked(status); !blocked.empty()) {
       return Reply(ReplyStatus::kSafetyStop, blocked);

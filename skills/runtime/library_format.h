@@ -44,6 +44,8 @@ struct LibraryValues {
 // counts the skills that pass it, the shipping bar and the nearest-skill selector require it.
 inline constexpr int kSurvivalSteps = 500;
 inline bool Survives(int survival_steps) { return survival_steps > kSurvivalSteps; }
+// A skill's earliest fall no later than this many steps makes it undependable: any fall.
+inline constexpr int kAnyFall = 2147483647;
 
 // Calls v(pointer, value) for every fact, with value an int, a double, a std::string, a
 // std::vector<double> or a std::vector<std::string>. A policy's o^p ends with a one-hot over its

@@ -10,12 +10,6 @@
 namespace flsd {
 namespace {
 
-// Survives its evaluation without falling, nominal and (where measured) randomised.
-bool Dependable(const SkillDescriptor& d) {
-  return !EarliestFall(d) && Survives(d.survival_steps) &&
-         (!d.randomized_survival_steps || Survives(*d.randomized_survival_steps));
-}
-
 constexpr double kInPlaceSpeed = 0.05;  // m/s of travel under which a turn is in place
 constexpr double kTurningRate = 0.1;    // rad/s a skill turns at least to count as a turn
 constexpr double kInPlaceRadius = 0.1;  // m under which the tightest turn both ways is in place

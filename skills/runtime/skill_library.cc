@@ -13,6 +13,7 @@
 #include "core/check.h"
 #include "robot/a1.h"
 #include "robot/observation.h"
+#include "skills/runtime/selector_memory.h"
 #include "robot/target_filter.h"
 #include "skills/runtime/library_format.h"
 #include "skills/runtime/safetensors.h"
@@ -218,6 +219,22 @@ std::optional<SkillFall> EarliestFall(const SkillDescriptor& d) {
   return fall;
 }
 
+std::string WhyUndependable(const SkillDescriptor& d, int min_fall_steps) {
+  if (const std::optional<SkillFall> fall = EarliestFall(d); fall && fall->steps < min_fall_steps) {
+    return "fell after " + std::to_string(fall->steps) + " steps in the library's " +
+           (fall->randomized ? "randomised evaluation" : "evaluation");
+  }
+  const auto short_of_bar = [](int steps, const char* evaluation) {
+    return "survived " + std::to_string(steps) + " steps in the library's " + evaluation + ", not more than " +
+           std::to_string(kSurvivalSteps);
+  };
+  if (!Survives(d.survival_steps)) return short_of_bar(d.survival_steps, "evaluation");
+  if (d.randomized_survival_steps && !Survives(*d.randomized_survival_steps)) {
+    return short_of_bar(*d.randomized_survival_steps, "randomised evaluation");
+  }
+  return "";
+}
+
 SkillLibrary SkillLibrary::Load(const std::string& path) {
   const SafeTensors file = ReadSafeTensors(path);
   SkillLibrary lib;
@@ -293,8 +310,12 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
     m.ExpectNumber("/selector/observation/motion", kMotionObsSize);
     m.ExpectNumber("/selector/observation/command", kCommandSize);
     m.ExpectNumbers("/selector/observation/command_scale", CommandScale());
-    selector.network = ReadNetwork(file, m, "/selector", "selector.", "selector.normalizer.", kTaskObsSize,
-                                   lib.num_skills_, kTaskObsSize);
+    if (m.Has("/selector/memory_window_steps")) {
+      selector.memory_window_steps = m.Get<int>("/selector/memory_window_steps");
+      if (selector.memory_window_steps < 0) m.Fail("/selector/memory_window_steps", "must be at least 0 (0: no memory)");
+    }
+    selector.network = ReadNetwork(file, m, "/selector", "selector.", "selector.normalizer.",
+                                   selector.inputs(lib.num_skills_), lib.num_skills_, selector.normalized_inputs());
     const char* axes[3] = {"vx", "vy", "wz"};
     for (int a = 0; a < 3; ++a) {
       const std::string at = std::string("/selector/commands/") + axes[a];
@@ -311,6 +332,13 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
       selector.nearest_prior_temperature = m.Get<double>("/selector/nearest_prior_temperature");
       if (!(selector.nearest_prior_temperature >= 0.0)) {
         m.Fail("/selector/nearest_prior_temperature", "must be at least 0 (0: no prior)");
+      }
+    }
+    if (m.Has("/selector/time_sharing_prior")) {
+      selector.time_sharing_prior = m.Get<double>("/selector/time_sharing_prior");
+      if (!(selector.time_sharing_prior >= 0.0)) m.Fail("/selector/time_sharing_prior", "must be at least 0 (0: no prior)");
+      if (selector.time_sharing_prior > 0.0 && selector.nearest_prior_temperature > 0.0) {
+        m.Fail("/selector/time_sharing_prior", "a selector has one prior, but nearest_prior_temperature is set too");
       }
     }
     lib.selector_ = std::move(selector);
@@ -431,6 +459,14 @@ void PolicyRunner::Act(const float* motion_obs, const float* previous_action, in
   BuildPolicyObservation(motion_obs, previous_action, d.policy_skill, library_.policies()[d.policy].num_skills,
                          policy_obs_.data());
   runners_[d.policy].Run(policy_obs_.data(), action);
+}
+
+int SelectorNetwork::inputs(int num_skills) const {
+  return kTaskObsSize + (memory_window_steps > 0 ? SelectorMemory::FeatureSize(num_skills) : 0);
+}
+
+int SelectorNetwork::normalized_inputs() const {
+  return kTaskObsSize + (memory_window_steps > 0 ? SelectorMemory::kScalarFeatures : 0);
 }
 
 std::array<double, 3> ClipCommand(const SelectorNetwork& s, const double* command) {

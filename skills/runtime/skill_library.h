@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "skills/runtime/library_format.h"
 #include "skills/runtime/safetensors.h"
 
 namespace flsd {
@@ -68,9 +69,18 @@ struct SkillFall {
   int steps = 0;
   bool randomized = false;
 };
-// std::nullopt if the skill fell in neither evaluation. skilld refuses a skill by it, lists it,
-// and picks velocity-command candidates from the skills without one.
+// std::nullopt if the skill fell in neither evaluation. skilld lists it.
 std::optional<SkillFall> EarliestFall(const SkillDescriptor& descriptor);
+
+// A dependable skill is one every evaluation the library records of it (nominal and, where
+// measured, randomised) saw survive past the paper's bar of kSurvivalSteps without a fall. The one
+// rule: the selectors choose only dependable skills, the shipping bar counts only them, the
+// navigation benchmark's top speed is theirs, and skilld runs no other skill on request (its
+// safety.min_skill_survival, passed as `min_fall_steps`, may allow a skill whose earliest fall
+// comes at least that late). Empty if dependable; else why not, for a person: "fell after 212
+// steps in the library's randomised evaluation".
+std::string WhyUndependable(const SkillDescriptor& descriptor, int min_fall_steps = kAnyFall);
+inline bool Dependable(const SkillDescriptor& descriptor) { return WhyUndependable(descriptor).empty(); }
 
 using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -89,7 +99,8 @@ struct DenseNetwork {
 };
 
 // The velocity-tracking skill selector (optional in a library): a categorical policy over the
-// skills whose input is o^c (robot/observation.h), and the command ranges it was trained on.
+// skills whose input is o^c (robot/observation.h) and, for a semi-MDP selector, what it remembers
+// (selector_memory.h), and the command ranges it was trained on.
 struct SelectorNetwork {
   DenseNetwork network;
   std::array<double, 3> command_min{}, command_max{};  // vx, vy, wz
@@ -98,6 +109,15 @@ struct SelectorNetwork {
   // > 0: the network's logits are added to NearestSkillSelector::Prior at this temperature, as in
   // training (absent from the file: 0, no prior).
   double nearest_prior_temperature = 0.0;
+  // > 0: they are added to this logit on the time-sharing selector's choice (absent: 0, none).
+  double time_sharing_prior = 0.0;
+  // > 0: the input is o^c and then SelectorMemory's features over a window of this many control
+  // steps (selector_memory.h: a semi-MDP selector); 0 (absent): o^c alone.
+  int memory_window_steps = 0;
+  // Of a library of num_skills skills.
+  int inputs(int num_skills) const;
+  // How many leading inputs are normalised: o^c and the memory's scalar features.
+  int normalized_inputs() const;
 };
 
 // A command (vx, vy, wz) as the selector sees it: clipped to the ranges it was trained on, its

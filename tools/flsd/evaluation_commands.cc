@@ -147,15 +147,22 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   struct TrackArgs {
     std::string library = "models/a1_flsd.safetensors";
     double seconds = 10.0;
+    std::string cases = "evaluation";
   };
   auto track = std::make_shared<TrackArgs>();
   CLI::App* track_cmd = app.add_subcommand(
-      "track", "Track eight velocity commands with a library's learned selector and the nearest-skill and time-sharing selectors");
+      "track", "Track velocity commands with a library's learned selector and the nearest-skill and time-sharing selectors");
   track_cmd->add_option("library", track->library, "Skill library (default: the shipped one)");
   track_cmd->add_option("--seconds", track->seconds, "Seconds per command")->check(CLI::Range(2.5, 600.0));
+  track_cmd
+      ->add_option("--cases", track->cases,
+                   "standard: the eight commands; evaluation: those and 32 drawn once over the library's envelope")
+      ->check(CLI::IsMember({"standard", "evaluation"}));
   out.push_back({track_cmd, [track] {
                    const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(track->library));
-                   return PrintJson(CompareSelectors(library, track->seconds, 2.0, 1));
+                   const std::vector<TrackingCase> cases =
+                       track->cases == "standard" ? StandardTrackingCases() : EvaluationTrackingCases(library);
+                   return PrintJson(CompareSelectors(library, cases, track->seconds, 2.0, 1));
                  }});
 
   struct TransitionArgs {

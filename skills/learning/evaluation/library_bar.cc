@@ -50,7 +50,7 @@ LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& li
   bar.pooled_high_frequency_ratio = evaluation.high_frequency.pooled_ratio;
   bar.lowest_mover_height = INFINITY;
   for (const SkillSummary& s : evaluation.skills) {
-    if (s.fell || !Survives(s.survival_steps)) continue;
+    if (!Dependable(DescribeSkill(s))) continue;
     ++bar.survivors;
     OfferForEveryDirection(s.skill, s.mean_linear_velocity[0], s.mean_linear_velocity[1], s.mean_angular_velocity[2],
                            limits, bar.skill, bar.speed);
@@ -74,7 +74,7 @@ std::array<int, kNumDirections> DirectionSkills(const SkillLibrary& library, con
   std::array<double, kNumDirections> speed{};
   skill.fill(-1);
   for (const SkillDescriptor& d : library.skills()) {
-    if (EarliestFall(d)) continue;
+    if (!Dependable(d)) continue;
     OfferForEveryDirection(d.id, d.mean_linear_velocity.x(), d.mean_linear_velocity.y(), d.mean_angular_velocity.z(),
                            limits, skill, speed);
   }

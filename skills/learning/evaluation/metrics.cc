@@ -158,6 +158,24 @@ double GaitFrequency(const SkillTrajectory& s, double rate_hz) {
   return best;
 }
 
+SkillDescriptor DescribeSkill(const SkillSummary& s, const SkillSummary* randomized) {
+  SkillDescriptor d;
+  d.id = d.mirror_skill = d.policy_skill = s.skill;
+  d.mean_linear_velocity = Eigen::Vector3d(s.mean_linear_velocity.data());
+  d.mean_angular_velocity = Eigen::Vector3d(s.mean_angular_velocity.data());
+  d.mean_base_height = s.mean_base_height;
+  d.mean_stance_foot_speed = s.mean_stance_foot_speed;
+  d.gait_frequency_hz = s.gait_frequency_hz;
+  d.survival_steps = s.survival_steps;
+  d.fell = s.fell;
+  if (randomized) {
+    d.randomized_survival_steps = randomized->survival_steps;
+    d.randomized_stance_foot_speed = randomized->mean_stance_foot_speed;
+    d.randomized_fell = randomized->fell;
+  }
+  return d;
+}
+
 SkillSummary SummarizeSkill(const SkillTrajectory& s, double rate_hz) {
   SkillSummary r;
   r.skill = s.skill;

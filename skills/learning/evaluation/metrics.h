@@ -18,6 +18,7 @@
 
 #include "robot/a1.h"
 #include "skills/runtime/library_format.h"
+#include "skills/runtime/skill_library.h"
 #include "skills/learning/tasks/velocity_tracking.h"
 
 namespace flsd {
@@ -104,6 +105,9 @@ struct SkillSummary {
   VelocityRewardTerms task_reward_per_s{};
 };
 SkillSummary SummarizeSkill(const SkillTrajectory& skill, double rate_hz);
+// What a library records of a skill from its evaluation and (optionally) its randomised one: the
+// measured fields of its descriptor (the id as its index, one policy).
+SkillDescriptor DescribeSkill(const SkillSummary& nominal, const SkillSummary* randomized = nullptr);
 
 // One rollout of every skill and the paper's metrics over it (flsd eval, flsd report).
 struct Evaluation {

@@ -1,10 +1,13 @@
 #include "skills/learning/evaluation/tracking_eval.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 #include <yaml-cpp/yaml.h>
 
+#include "core/rng.h"
 #include "robot/observation.h"
 #include "sim/env.h"
 
@@ -16,12 +19,29 @@ std::vector<TrackingCase> StandardTrackingCases() {
           {"turn_right", {0.0, 0.0, -1.0}}, {"forward_turning", {0.5, 0.0, 0.5}}};
 }
 
+std::vector<TrackingCase> EvaluationTrackingCases(const SkillLibrary& library) {
+  std::vector<TrackingCase> cases = StandardTrackingCases();
+  const NearestSkillSelector dependable(library);
+  Rng rng(kTrackingCaseSeed);
+  for (int i = 0; i < kDrawnTrackingCases; ++i) {
+    char name[16];
+    std::snprintf(name, sizeof(name), "drawn_%02d", i);
+    TrackingCase c{name, {}};
+    for (int a = 0; a < 3; ++a) {
+      c.command[a] = Uniform(rng, std::min(0.0, dependable.velocity_min()[a]), std::max(0.0, dependable.velocity_max()[a]));
+    }
+    cases.push_back(c);
+  }
+  return cases;
+}
+
 TrackingError TrackingErrorOf(const std::array<double, 3>& achieved, const std::array<double, 3>& command) {
   return {std::hypot(achieved[0] - command[0], achieved[1] - command[1]), std::abs(achieved[2] - command[2])};
 }
 
-TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env_config, double seconds,
-                                    double settle_seconds, uint64_t seed, SelectorKind selector) {
+TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env_config,
+                                    const std::vector<TrackingCase>& cases, double seconds, double settle_seconds,
+                                    uint64_t seed, SelectorKind selector) {
   const int steps = static_cast<int>(std::lround(seconds / a1::kControlDt));
   const int settle = static_cast<int>(std::lround(settle_seconds / a1::kControlDt));
   const EnvConfig config = ServedEnvConfig(library, env_config, steps + 1);
@@ -33,7 +53,7 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
   out.seconds = seconds;
   out.settle_seconds = settle_seconds;
   double lin2 = 0.0, ang2 = 0.0;
-  for (const TrackingCase& c : StandardTrackingCases()) {
+  for (const TrackingCase& c : cases) {
     Env env(*model, config, seed);
     env.Reset();
     policy.Reset();
@@ -73,6 +93,7 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
     lin2 += r.lin_error * r.lin_error;
     ang2 += r.ang_error * r.ang_error;
     out.falls += r.fell;
+    out.switches_per_s += r.switches_per_s / cases.size();
     out.cases.push_back(r);
   }
   out.rms_lin_error = std::sqrt(lin2 / out.cases.size());
@@ -95,7 +116,8 @@ nlohmann::json TrackingJson(const TrackingEvaluation& e) {
   }
   return {{"selector", ToString(e.selector)},
           {"seconds", e.seconds},           {"settle_seconds", e.settle_seconds}, {"rms_lin_error", e.rms_lin_error},
-          {"rms_ang_error", e.rms_ang_error}, {"falls", e.falls},                {"cases", cases}};
+          {"rms_ang_error", e.rms_ang_error}, {"falls", e.falls},                {"switches_per_s", e.switches_per_s},
+          {"cases", cases}};
 }
 
 EnvConfig TrainingEnvOf(const SkillLibrary& library) {
@@ -117,14 +139,15 @@ EnvConfig ServedEnvConfig(const SkillLibrary& library, const EnvConfig& env, int
   return config;
 }
 
-nlohmann::json CompareSelectors(const SkillLibrary& library, double seconds, double settle_seconds, uint64_t seed) {
+nlohmann::json CompareSelectors(const SkillLibrary& library, const std::vector<TrackingCase>& cases, double seconds,
+                                double settle_seconds, uint64_t seed) {
   const EnvConfig env = TrainingEnvOf(library);
   nlohmann::json out = {{"library", library.path()}};
   out["learned"] = library.selector()
-                       ? TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, SelectorKind::kLearned))
+                       ? TrackingJson(EvaluateTracking(library, env, cases, seconds, settle_seconds, seed, SelectorKind::kLearned))
                        : nlohmann::json();
   for (SelectorKind analytic : {SelectorKind::kNearestSkill, SelectorKind::kTimeSharing}) {
-    out[ToString(analytic)] = TrackingJson(EvaluateTracking(library, env, seconds, settle_seconds, seed, analytic));
+    out[ToString(analytic)] = TrackingJson(EvaluateTracking(library, env, cases, seconds, settle_seconds, seed, analytic));
   }
   return out;
 }

@@ -20,6 +20,13 @@ struct TrackingCase {
 };
 // Stand, forward, backward, left, right, turn left, turn right, forward while turning.
 std::vector<TrackingCase> StandardTrackingCases();
+// The fixed evaluation set a selector is judged on: the eight standard commands, then
+// kDrawnTrackingCases drawn once from kTrackingCaseSeed, each axis uniform over the range of the
+// library's dependable skills' velocities with 0 in it ("drawn_00", ...). Fixed before any
+// selector was trained against it; the same library gives the same set on every machine.
+inline constexpr int kDrawnTrackingCases = 32;
+inline constexpr uint64_t kTrackingCaseSeed = 20261206;
+std::vector<TrackingCase> EvaluationTrackingCases(const SkillLibrary& library);
 
 // How far an achieved mean velocity (vx, vy, wz) is from the command: |error| in xy (m/s), and in
 // wz (rad/s). Against what was asked: a selector that clips a command it cannot follow still misses it.
@@ -44,12 +51,14 @@ struct TrackingEvaluation {
   std::vector<TrackingResult> cases;
   double rms_lin_error = 0.0, rms_ang_error = 0.0;  // over the cases
   int falls = 0;
+  double switches_per_s = 0.0;  // the cases' mean
 };
 
+// Each case from a stand for `seconds`, the achieved velocity averaged after `settle_seconds`.
 // Throws InputError if `selector` is kLearned and the library has none.
-TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env, double seconds,
-                                    double settle_seconds, uint64_t seed,
-                                    SelectorKind selector = SelectorKind::kLearned);
+TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env,
+                                    const std::vector<TrackingCase>& cases, double seconds, double settle_seconds,
+                                    uint64_t seed, SelectorKind selector = SelectorKind::kLearned);
 nlohmann::json TrackingJson(const TrackingEvaluation& evaluation);
 
 // The simulated A1 a library's skills were trained on (its metadata's training config), for
@@ -59,8 +68,9 @@ EnvConfig TrainingEnvOf(const SkillLibrary& library);
 // the library's target filter, and episodes of `steps` control steps.
 EnvConfig ServedEnvConfig(const SkillLibrary& library, const EnvConfig& env, int steps);
 
-// `flsd track`: the eight commands with the library's learned selector (where it has one) and
-// with the nearest-skill and time-sharing selectors, side by side.
-nlohmann::json CompareSelectors(const SkillLibrary& library, double seconds, double settle_seconds, uint64_t seed);
+// `flsd track`: `cases` with the library's learned selector (where it has one) and with the
+// nearest-skill and time-sharing selectors, side by side.
+nlohmann::json CompareSelectors(const SkillLibrary& library, const std::vector<TrackingCase>& cases, double seconds,
+                                double settle_seconds, uint64_t seed);
 
 }  // namespace flsd

@@ -82,22 +82,8 @@ nlohmann::json SkillLibraryMetadata(const TrainConfig& config, const TrainedPoli
   nlohmann::json skills = nlohmann::json::array();
   const mirror::SkillPairing pairing = SkillPairingOf(config.num_skills, config.symmetry);
   for (const SkillSummary& s : evaluation.skills) {
-    const SkillSummary& r = randomized.skills.at(s.skill);
-    SkillDescriptor d;
-    d.id = s.skill;
+    SkillDescriptor d = DescribeSkill(s, &randomized.skills.at(s.skill));
     d.mirror_skill = pairing(s.skill);
-    d.policy = 0;
-    d.policy_skill = s.skill;
-    d.mean_linear_velocity = Eigen::Vector3d(s.mean_linear_velocity.data());
-    d.mean_angular_velocity = Eigen::Vector3d(s.mean_angular_velocity.data());
-    d.mean_base_height = s.mean_base_height;
-    d.mean_stance_foot_speed = s.mean_stance_foot_speed;
-    d.gait_frequency_hz = s.gait_frequency_hz;
-    d.survival_steps = s.survival_steps;
-    d.fell = s.fell;
-    d.randomized_survival_steps = r.survival_steps;
-    d.randomized_stance_foot_speed = r.mean_stance_foot_speed;
-    d.randomized_fell = r.fell;
     skills.push_back(DescriptorJson(d));
   }
   metadata["skills"] = skills;
@@ -184,7 +170,8 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
   WriteSafeTensors(unevaluated, file);
   TrackingEvaluation tracking;
   try {
-    tracking = EvaluateTracking(SkillLibrary::Load(unevaluated), config.env, 10.0, 2.0, config.seed);
+    const SkillLibrary library = SkillLibrary::Load(unevaluated);
+    tracking = EvaluateTracking(library, config.env, EvaluationTrackingCases(library), 10.0, 2.0, config.seed);
   } catch (...) {
     fs::remove(unevaluated);
     throw;

@@ -138,7 +138,8 @@ TEST(NearestSkillSelector, ServesAHierarchicalPolicyWithoutALearnedSelectorAndHo
   std::vector<float> motion(kMotionObsSize, 0.0f), previous(kActionSize, 0.0f), action(kActionSize);
   const double forward[3] = {0.5, 0, 0}, stand[3] = {0, 0, 0};
   EXPECT_EQ(policy.Act(motion.data(), forward, previous.data(), action.data()), 1);
-  for (int t = 1; t < HierarchicalPolicy::kNearestSkillHoldSteps; ++t) {
+  ASSERT_EQ(policy.hold_steps(), 25);  // 0.5 s
+  for (int t = 1; t < policy.hold_steps(); ++t) {
     EXPECT_EQ(policy.Act(motion.data(), stand, previous.data(), action.data()), 1) << t;
   }
   EXPECT_EQ(policy.Act(motion.data(), stand, previous.data(), action.data()), 0);
@@ -180,7 +181,7 @@ TEST(NearestSkillSelector, NeverMakesASwitchTheLibraryRecordsAFallFor) {
   std::vector<float> motion(kMotionObsSize, 0.0f), previous(kActionSize, 0.0f), action(kActionSize);
   const double walk[3] = {0.5, 0, 0};
   EXPECT_EQ(policy.Act(motion.data(), walk, previous.data(), action.data()), 1);
-  for (int t = 1; t < HierarchicalPolicy::kNearestSkillHoldSteps; ++t) {
+  for (int t = 1; t < policy.hold_steps(); ++t) {
     policy.Act(motion.data(), fast, previous.data(), action.data());
   }
   EXPECT_EQ(policy.Act(motion.data(), fast, previous.data(), action.data()), 3);
@@ -315,9 +316,10 @@ TEST(TimeSharingSelector, ServesAHierarchicalPolicyThatHoldsEachChoiceASecond) {
   std::vector<float> motion(kMotionObsSize, 0.0f), previous(kActionSize, 0.0f), action(kActionSize);
   const double forward[3] = {0.5, 0, 0};
   std::vector<int> per_second;
-  for (int t = 0; t < 10 * HierarchicalPolicy::kTimeSharingHoldSteps; ++t) {
+  ASSERT_EQ(policy.hold_steps(), 50);  // 1 s
+  for (int t = 0; t < 10 * policy.hold_steps(); ++t) {
     const int skill = policy.Act(motion.data(), forward, previous.data(), action.data());
-    if (t % HierarchicalPolicy::kTimeSharingHoldSteps == 0) {
+    if (t % policy.hold_steps() == 0) {
       per_second.push_back(skill);
     } else {
       EXPECT_EQ(skill, per_second.back()) << t;

@@ -22,8 +22,8 @@ const TrackingResult& Case(const TrackingEvaluation& e, const std::string& name)
 TEST(EvaluateTracking, TimeSharingMeetsTheCommandsBetweenTheShippedSkills) {
   const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
   const EnvConfig env = TrainingEnvOf(library);
-  const TrackingEvaluation nearest = EvaluateTracking(library, env, 10.0, 2.0, 1, SelectorKind::kNearestSkill);
-  const TrackingEvaluation shared = EvaluateTracking(library, env, 10.0, 2.0, 1, SelectorKind::kTimeSharing);
+  const TrackingEvaluation nearest = EvaluateTracking(library, env, StandardTrackingCases(), 10.0, 2.0, 1, SelectorKind::kNearestSkill);
+  const TrackingEvaluation shared = EvaluateTracking(library, env, StandardTrackingCases(), 10.0, 2.0, 1, SelectorKind::kTimeSharing);
   ASSERT_EQ(shared.cases.size(), 8u);
   EXPECT_EQ(nearest.falls, 0);
   EXPECT_EQ(shared.falls, 0);
@@ -39,6 +39,29 @@ TEST(EvaluateTracking, TimeSharingMeetsTheCommandsBetweenTheShippedSkills) {
   EXPECT_LT(shared.rms_ang_error, 0.3);
   // Each choice is held 1 s: at most one switch a second.
   for (const TrackingResult& r : shared.cases) EXPECT_LE(r.switches_per_s, 1.0) << r.tracked.name;
+}
+
+// The evaluation set is fixed: the eight standard commands, then 32 drawn from one seed within
+// the range of the dependable skills' velocities; the shipped library's first draw is pinned, so
+// that a change to the draw cannot silently move the set selectors are compared on.
+TEST(EvaluationTrackingCases, AreTheStandardCommandsAndAFixedDrawWithinTheEnvelope) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors"));
+  const std::vector<TrackingCase> cases = EvaluationTrackingCases(library);
+  ASSERT_EQ(cases.size(), 8u + kDrawnTrackingCases);
+  const std::vector<TrackingCase> standard = StandardTrackingCases();
+  for (size_t i = 0; i < standard.size(); ++i) EXPECT_EQ(cases[i].command, standard[i].command) << i;
+  EXPECT_EQ(cases[8].name, "drawn_00");
+  EXPECT_NEAR(cases[8].command[0], 0.58929, 1e-5);
+  EXPECT_NEAR(cases[8].command[1], -0.21622, 1e-5);
+  EXPECT_NEAR(cases[8].command[2], -0.99352, 1e-5);
+  const NearestSkillSelector dependable(library);
+  for (size_t i = 8; i < cases.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(cases[i].command[a], std::min(0.0, dependable.velocity_min()[a])) << cases[i].name;
+      EXPECT_LE(cases[i].command[a], std::max(0.0, dependable.velocity_max()[a])) << cases[i].name;
+    }
+  }
+  EXPECT_EQ(EvaluationTrackingCases(library)[20].command, cases[20].command);
 }
 
 }  // namespace

@@ -140,12 +140,15 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
   nlohmann::json metadata = base.metadata();
   AddNetwork(file, selector.policy->actor(), selector.normalizer, "selector.", "selector.normalizer.");
   const VelocityCommandConfig& commands = config.task.commands;
+  const SelectorNetwork shape = SelectorShape(config);
   metadata["selector"] = {
       {"hidden", config.policy.actor_hidden},
       {"activation", "elu"},
       {"layers", config.policy.actor_hidden.size() + 1},
-      {"decision_interval", config.decision_interval},
-      {"nearest_prior_temperature", config.nearest_prior_temperature},
+      {"decision_interval", shape.decision_interval},
+      {"nearest_prior_temperature", shape.nearest_prior_temperature},
+      {"time_sharing_prior", shape.time_sharing_prior},
+      {"memory_window_steps", shape.memory_window_steps},
       {"observation",
        {{"motion", kMotionObsSize},
         {"command", kCommandSize},

@@ -159,7 +159,7 @@ int RunVelocityTraining(const VelocityRunOptions& options, const std::atomic<boo
       "new velocity-task run ({}{}) in {}: {} envs x {} steps per iteration, {} iterations", config.method,
       task.library() ? " over " + config.library : std::string(), options.run_dir, config.num_envs,
       config.steps_per_env, config.iterations);
-  return Train(task, config.ppo, config.seed, comm, folder, options.resume, "", new_run,
+  return Train(task, VelocityPpoConfig(config), config.seed, comm, folder, options.resume, "", new_run,
                {config.iterations, config.checkpoint_every, 0}, stop_requested);
 }
 

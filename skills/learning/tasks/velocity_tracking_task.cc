@@ -31,14 +31,33 @@ VelocityMethod ParseVelocityMethod(const std::string& name) {
   throw InputError("method: expected 'selector' or 'scratch', got '" + name + "'");
 }
 
-int NormalizedVelocityObsSize(VelocityMethod method) {
-  return method == VelocityMethod::kSelector ? kTaskObsSize : kTaskObsSize + kActionSize;
+SelectorNetwork SelectorShape(const VelocityTrainConfig& config) {
+  SelectorNetwork shape;
+  shape.decision_interval = config.decision_interval;
+  shape.nearest_prior_temperature = config.nearest_prior_temperature;
+  shape.time_sharing_prior = config.time_sharing_prior;
+  shape.memory_window_steps =
+      config.semi_mdp.enabled() ? std::max(1, static_cast<int>(std::lround(config.semi_mdp.window_s / a1::kControlDt))) : 0;
+  return shape;
+}
+
+int NormalizedVelocityObsSize(const VelocityTrainConfig& config) {
+  return ParseVelocityMethod(config.method) == VelocityMethod::kSelector ? SelectorShape(config).normalized_inputs()
+                                                                         : kTaskObsSize + kActionSize;
 }
 
 int VelocityPolicyObsSize(const VelocityTrainConfig& config, int num_skills) {
-  const VelocityMethod method = ParseVelocityMethod(config.method);
-  return NormalizedVelocityObsSize(method) +
-         (method == VelocityMethod::kSelector && config.nearest_prior() ? num_skills : 0);
+  return ParseVelocityMethod(config.method) == VelocityMethod::kSelector
+             ? SelectorShape(config).inputs(num_skills) + num_skills
+             : kTaskObsSize + kActionSize;
+}
+
+PpoConfig VelocityPpoConfig(const VelocityTrainConfig& config) {
+  PpoConfig ppo = config.ppo;
+  if (config.discount_per_second > 0.0) {
+    ppo.gamma = std::pow(config.discount_per_second, config.decision_interval * a1::kControlDt);
+  }
+  return ppo;
 }
 
 void ValidateVelocityTrainConfig(const VelocityTrainConfig& config, const std::string& where) {
@@ -47,8 +66,19 @@ void ValidateVelocityTrainConfig(const VelocityTrainConfig& config, const std::s
     if (method == VelocityMethod::kSelector && config.library.empty()) {
       throw InputError("library: the selector needs a skill library to choose from (models/*.safetensors)");
     }
-    if (method == VelocityMethod::kScratch && config.nearest_prior()) {
-      throw InputError("nearest_prior_temperature: a prior over skills needs method 'selector'; expected 0");
+    if (method == VelocityMethod::kScratch &&
+        (config.nearest_prior() || config.time_sharing_prior > 0.0 || config.semi_mdp.enabled())) {
+      throw InputError("nearest_prior_temperature, time_sharing_prior and semi_mdp.window_s: a prior over skills and a "
+                       "selector's memory need method 'selector'; expected 0");
+    }
+    if (config.nearest_prior() && config.time_sharing_prior > 0.0) {
+      throw InputError("time_sharing_prior: a selector has one prior, but nearest_prior_temperature is set too");
+    }
+    if (config.mirror && (config.time_sharing_prior > 0.0 || config.semi_mdp.enabled())) {
+      throw InputError("mirror: the time-sharing prior and the semi-MDP memory are not mirrored; expected false");
+    }
+    if (config.semi_mdp.enabled() && config.reward_streams) {
+      throw InputError("reward_streams: a semi-MDP selector has one reward; expected false");
     }
     if (method == VelocityMethod::kScratch && config.decision_interval != 1) {
       throw InputError("decision_interval: the scratch policy acts every control step; expected 1, got " +
@@ -71,7 +101,7 @@ VelocityTrackingTask::VelocityTrackingTask(const VelocityTrainConfig& config, co
       comm_(comm),
       method_(ParseVelocityMethod(config.method)),
       library_(LoadSelectorLibrary(config)),
-      nearest_(library_ && config.nearest_prior() ? std::make_optional<NearestSkillSelector>(*library_) : std::nullopt),
+      shape_(SelectorShape(config)),
       num_envs_(LocalEnvCount(config.num_envs, comm)),
       steps_(config.steps_per_env),
       obs_size_(VelocityPolicyObsSize(config, library_ ? library_->num_skills() : 0)),
@@ -82,7 +112,7 @@ VelocityTrackingTask::VelocityTrackingTask(const VelocityTrainConfig& config, co
                    ? ActorCritic(obs_size_, obs_size_, kActionSize, config.policy, streams_)
                    : ActorCritic(nullptr)),
       selector_(library_ ? CategoricalActorCritic(obs_size_, obs_size_, library_->num_skills(), config.policy, streams_,
-                                                  config.nearest_prior())
+                                                  /*prior_logits=*/true)
                          : CategoricalActorCritic(nullptr)),
       policy_(library_ ? std::shared_ptr<PpoPolicyImpl>(selector_.ptr())
                        : std::shared_ptr<PpoPolicyImpl>(scratch_.ptr())) {
@@ -97,7 +127,17 @@ VelocityTrackingTask::VelocityTrackingTask(const VelocityTrainConfig& config, co
   const int n = num_envs_, t = steps_;
   if (library_) {
     skill_runners_.reserve(n);
-    for (int i = 0; i < n; ++i) skill_runners_.emplace_back(*library_);
+    priors_.reserve(n);
+    for (int i = 0; i < n; ++i) {
+      skill_runners_.emplace_back(*library_);
+      priors_.emplace_back(*library_, shape_.nearest_prior_temperature, shape_.time_sharing_prior);
+    }
+    memories_.assign(n, SelectorMemory(std::max(1, shape_.memory_window_steps)));
+    if (config.mirror) {
+      mirror_prior_.emplace(*library_, shape_.nearest_prior_temperature, 0.0);
+      rollout_commands_ = torch::zeros({t, n, 3}, torch::kFloat64);
+      rollout_running_ = torch::zeros({t, n}, torch::kLong);
+    }
   }
   previous_action_.assign(n * kActionSize, 0.0f);
   joint_actions_.assign(n * kActionSize, 0.0f);
@@ -106,10 +146,6 @@ VelocityTrackingTask::VelocityTrackingTask(const VelocityTrainConfig& config, co
   episode_length_.assign(n, 0);
   ended_.assign(n, 0);
   last_choice_.assign(n, -1);
-  if (nearest_) {
-    commands_ = torch::zeros({n, 3}, torch::kFloat64);
-    if (config.mirror) rollout_commands_ = torch::zeros({t, n, 3}, torch::kFloat64);
-  }
 }
 
 RolloutShape VelocityTrackingTask::shape() const {
@@ -117,16 +153,6 @@ RolloutShape VelocityTrackingTask::shape() const {
   // The critic sees what the actor sees.
   return {steps_, num_envs_, obs_size_, obs_size_, selector ? 1 : kActionSize,
           selector ? library_->num_skills() : 2 * kActionSize, streams_};
-}
-
-torch::Tensor VelocityTrackingTask::PriorLogits(const torch::Tensor& commands) const {
-  const torch::Tensor c = commands.contiguous();
-  torch::Tensor prior = torch::empty({c.size(0), library_->num_skills()}, torch::kFloat32);
-  const int64_t skills = prior.size(1);
-  for (int64_t i = 0; i < c.size(0); ++i) {
-    nearest_->Prior(c.data_ptr<double>() + 3 * i, config_.nearest_prior_temperature, prior.data_ptr<float>() + i * skills);
-  }
-  return prior;
 }
 
 void VelocityTrackingTask::Observe(torch::Tensor& raw) {
@@ -137,12 +163,12 @@ void VelocityTrackingTask::Observe(torch::Tensor& raw) {
     std::copy(&task_obs_[i * kTaskObsSize], &task_obs_[(i + 1) * kTaskObsSize], row);
     if (method_ == VelocityMethod::kScratch) {
       std::copy(&previous_action_[i * kActionSize], &previous_action_[(i + 1) * kActionSize], row + kTaskObsSize);
+      continue;
     }
-  }
-  if (nearest_) {
-    double* commands = commands_.data_ptr<double>();
-    for (int i = 0; i < num_envs_; ++i) Eigen::Map<Eigen::Vector3d>(commands + 3 * i) = env_.command(i);
-    raw.narrow(1, kTaskObsSize, library_->num_skills()).copy_(PriorLogits(commands_));
+    // As LearnedSelector builds its input (selector.cc), and the prior after it.
+    const int skills = library_->num_skills(), inputs = shape_.inputs(skills);
+    if (shape_.memory_window_steps > 0) memories_[i].WriteFeatures(skills, row + kTaskObsSize);
+    priors_[i].Write(env_.command(i).data(), memories_[i].running(), row + inputs);
   }
 }
 
@@ -166,7 +192,14 @@ void VelocityTrackingTask::JointActions(const torch::Tensor& policy_action) {
 void VelocityTrackingTask::BeginRollout() { sums_ = Sums{}; }
 
 void VelocityTrackingTask::Step(int t, const torch::Tensor& action, Rollout& rollout) {
-  if (rollout_commands_.defined()) rollout_commands_[t].copy_(commands_);
+  if (rollout_commands_.defined()) {
+    double* commands = rollout_commands_[t].data_ptr<double>();
+    int64_t* running = rollout_running_[t].data_ptr<int64_t>();
+    for (int i = 0; i < num_envs_; ++i) {
+      Eigen::Map<Eigen::Vector3d>(commands + 3 * i) = env_.command(i);
+      running[i] = memories_[i].running();
+    }
+  }
   // One decision: the choice holds for decision_interval control steps, whose rewards it earns
   // until its episode ends. Steps after such an end belong to the next episode (which they start
   // under the old choice) and are not this transition's.
@@ -191,11 +224,20 @@ void VelocityTrackingTask::Step(int t, const torch::Tensor& action, Rollout& rol
   }
   for (int k = 0; k < config_.decision_interval; ++k) {
     JointActions(action);
+    if (library_) {
+      const float* motion = env_.vec_env().motion_obs();
+      const float* choice = action.data_ptr<float>();
+      for (int i = 0; i < num_envs_; ++i) {
+        memories_[i].Record(env_.command(i).data(), static_cast<int>(choice[i]), motion + i * kMotionObsSize);
+      }
+    }
     env_.Step(joint_actions_.data());
     for (int i = 0; i < num_envs_; ++i) {
       const Termination ending = env_.vec_env().termination()[i];
       const VelocityRewardTerms& terms = env_.terms(i);
-      const float reward = env_.rewards()[i];
+      // What the selector is paid: a semi-MDP selector's own reward, else legged_gym's.
+      const float reward =
+          config_.semi_mdp.enabled() ? static_cast<float>(SemiMdpReward(i, ending)) : env_.rewards()[i];
       if (!ended_[i]) {
         if (streams_ == 1) {
           rewards[i] += reward;
@@ -229,12 +271,27 @@ void VelocityTrackingTask::Step(int t, const torch::Tensor& action, Rollout& rol
         episode_return_[i] = 0.0;
         episode_length_[i] = 0;
         last_choice_[i] = -1;
+        if (library_) {
+          memories_[i].Reset();
+          priors_[i].Reset();
+        }
         std::fill(previous, previous + kActionSize, 0.0f);
       } else {
         std::copy(&joint_actions_[i * kActionSize], &joint_actions_[(i + 1) * kActionSize], previous);
       }
     }
   }
+}
+
+double VelocityTrackingTask::SemiMdpReward(int i, Termination ending) const {
+  const RobotState& state = env_.vec_env().stepped_state(i);  // before any reset
+  const Eigen::Vector3d velocity(state.base_linear_velocity.x(), state.base_linear_velocity.y(),
+                                 state.base_angular_velocity.z());
+  const VelocityRewardTerms scaled = Scaled(env_.terms(i), config_.task.reward);
+  const double penalties = scaled.total - scaled.tracking_lin_vel - scaled.tracking_ang_vel;
+  const double per_second = SelectorRewardPerSecond(config_.semi_mdp, memories_[i].WindowError(),
+                                                    env_.command(i) - velocity, penalties);
+  return per_second * a1::kControlDt - (IsFailure(ending) ? config_.semi_mdp.fall_penalty : 0.0);
 }
 
 void VelocityTrackingTask::FinishRollout(Rollout&, int) {
@@ -273,9 +330,19 @@ MirroredSamples VelocityTrackingTask::Mirror(const torch::Tensor& raw_obs, const
   }
   const int64_t count = raw_obs.size(0);
   torch::Tensor mirrored = MirrorAlong(obs, raw_obs.narrow(1, 0, obs.size()), 1);
-  if (nearest_) {  // the prior of the mirrored command (vx, -vy, -wz)
-    const torch::Tensor flip = torch::tensor({1.0, -1.0, -1.0}, torch::kFloat64);
-    mirrored = torch::cat({mirrored, PriorLogits(rollout_commands_.view({count, 3}) * flip)}, 1);
+  std::vector<int64_t> pairs;
+  if (library_) {  // the prior of the mirrored command (vx, -vy, -wz) after the mirrored running skill
+    for (const SkillDescriptor& d : library_->skills()) pairs.push_back(d.mirror_skill);
+    const int skills = library_->num_skills();
+    torch::Tensor prior = torch::empty({count, skills}, torch::kFloat32);
+    const torch::Tensor commands = rollout_commands_.view({count, 3}).contiguous();
+    const int64_t* running = rollout_running_.data_ptr<int64_t>();
+    for (int64_t r = 0; r < count; ++r) {
+      const double* c = commands.data_ptr<double>() + 3 * r;
+      const double flipped[3] = {c[0], -c[1], -c[2]};
+      mirror_prior_->Write(flipped, running[r] >= 0 ? pairs[running[r]] : -1, prior.data_ptr<float>() + r * skills);
+    }
+    mirrored = torch::cat({mirrored, prior}, 1);
   }
   MirroredSamples m;
   m.obs = NormalizeLeadingColumns(normalizer, mirrored);
@@ -284,8 +351,6 @@ MirroredSamples VelocityTrackingTask::Mirror(const torch::Tensor& raw_obs, const
   if (method_ == VelocityMethod::kScratch) {
     m.actions = MirrorAlong(mirror::Joints(), actions, 1);
   } else {
-    std::vector<int64_t> pairs;
-    for (const SkillDescriptor& d : library_->skills()) pairs.push_back(d.mirror_skill);
     const torch::Tensor chosen = actions.squeeze(1).to(torch::kLong);
     m.actions = torch::tensor(pairs, torch::kLong).index_select(0, chosen).to(torch::kFloat32).unsqueeze(1);
   }
@@ -311,9 +376,8 @@ TrainedSelector LoadTrainedSelector(const VelocityTrainConfig& config, int num_s
   torch::serialize::InputArchive archive = OpenCheckpoint(checkpoint);
   TrainedSelector out;
   const int obs = VelocityPolicyObsSize(config, num_skills);
-  out.policy =
-      CategoricalActorCritic(obs, obs, num_skills, config.policy, config.value_streams(), config.nearest_prior());
-  out.normalizer = RunningNormalizer(NormalizedVelocityObsSize(VelocityMethod::kSelector));
+  out.policy = CategoricalActorCritic(obs, obs, num_skills, config.policy, config.value_streams(), /*prior_logits=*/true);
+  out.normalizer = RunningNormalizer(NormalizedVelocityObsSize(config));
   try {
     ReadPolicyParts(archive, *out.policy, *out.normalizer, out.iteration, out.env_steps);
     out.library_fingerprint = ReadString(archive, "library_fingerprint");

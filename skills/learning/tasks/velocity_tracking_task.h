@@ -13,8 +13,10 @@
 
 #include "skills/learning/networks/actor_critic.h"
 #include "skills/learning/runners/rollout_task.h"
+#include "skills/learning/tasks/selector_reward.h"
 #include "skills/learning/tasks/velocity_command_env.h"
-#include "skills/runtime/nearest_skill.h"
+#include "skills/runtime/selector.h"
+#include "skills/runtime/selector_memory.h"
 #include "skills/runtime/skill_library.h"
 
 namespace flsd {
@@ -52,6 +54,15 @@ struct VelocityTrainConfig {
   // choice that switches the robot off its feet. The exported library records the temperature.
   double nearest_prior_temperature = 0.0;
   bool nearest_prior() const { return nearest_prior_temperature > 0.0; }
+  // Not the paper's; 0 turns it off. Like the nearest-skill prior, but the logit of this value goes
+  // to the time-sharing selector's choice (0 to the other choices): the selector starts as the
+  // hand-made one serves and learns what to do better.
+  double time_sharing_prior = 0.0;
+  // A semi-MDP selector (selector_reward.h), with decision_interval its hold: on with a window.
+  SelectorRewardConfig semi_mdp;
+  // Discount per second of simulated time (0: ppo.gamma per decision, as given): PPO's gamma is
+  // this to the power of one decision's seconds, so that the horizon does not change with the hold.
+  double discount_per_second = 0.0;
   int iterations = 500;
   int checkpoint_every = 25;
   EnvConfig env;
@@ -71,6 +82,9 @@ struct VelocityTrainConfig {
     v("mirror", mirror);
     v("reward_streams", reward_streams);
     v("nearest_prior_temperature", nearest_prior_temperature, Bounds<double>{0.0, 1e3});
+    v("time_sharing_prior", time_sharing_prior, Bounds<double>{0.0, 1e3});
+    v("semi_mdp", semi_mdp);
+    v("discount_per_second", discount_per_second, Bounds<double>{0.0, 1.0});
     v("iterations", iterations, Bounds<int>{1, 100000000});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("env", env);
@@ -82,16 +96,22 @@ struct VelocityTrainConfig {
 
 VelocityTrainConfig LoadVelocityTrainConfig(const std::string& path, const std::vector<std::string>& overrides = {});
 void ValidateVelocityTrainConfig(const VelocityTrainConfig& config, const std::string& where);
+// The PPO settings a run trains with: config.ppo, its gamma per decision from discount_per_second.
+PpoConfig VelocityPpoConfig(const VelocityTrainConfig& config);
 
-// The observation the task policy sees: o^c for the selector (then its prior logits, one per
-// skill, with a nearest-skill prior); o^c and the previous joint action for the scratch policy,
-// whose action is the joint action itself. The leading NormalizedVelocityObsSize columns are normalised.
+// The observation the task policy sees: for the selector, its network's input (SelectorNetwork:
+// o^c, then a semi-MDP selector's memory) and then its prior logits (SelectorPrior: the masks and
+// the prior, one per skill); o^c and the previous joint action for the scratch policy, whose
+// action is the joint action itself. The leading NormalizedVelocityObsSize columns are normalised.
 int VelocityPolicyObsSize(const VelocityTrainConfig& config, int num_skills);
-int NormalizedVelocityObsSize(VelocityMethod method);
+int NormalizedVelocityObsSize(const VelocityTrainConfig& config);
+// What a selector run's exported network is: its input, prior and hold as skilld runs them.
+SelectorNetwork SelectorShape(const VelocityTrainConfig& config);
 
 // The task's figures of one iteration, over every rank.
 struct VelocityTrackingStats {
-  double mean_reward = 0.0;           // per control step, dt-scaled (legged_gym's units)
+  // Per control step, dt-scaled: legged_gym's reward, or a semi-MDP selector's own.
+  double mean_reward = 0.0;
   double zero_reward_share = 0.0;     // of control steps paid exactly 0 (clipped): no gradient
   double mean_episode_return = 0.0;   // of the episodes that ended (0 if none did)
   int episodes_ended = 0;
@@ -133,7 +153,7 @@ class VelocityTrackingTask : public RolloutTask {
 
   std::shared_ptr<PpoPolicyImpl> policy() const override { return policy_; }
   RolloutShape shape() const override;
-  int normalized_obs() const override { return NormalizedVelocityObsSize(method_); }
+  int normalized_obs() const override { return NormalizedVelocityObsSize(config_); }
   int control_steps_per_step() const override { return config_.decision_interval; }
   bool mirrored() const override { return config_.mirror; }
 
@@ -160,8 +180,8 @@ class VelocityTrackingTask : public RolloutTask {
  private:
   // The joint actions for this control step: the chosen skill's, or the scratch policy's own.
   void JointActions(const torch::Tensor& policy_action);
-  // The nearest-skill prior of each row of commands [B, 3] (vx, vy, wz): [B, num_skills].
-  torch::Tensor PriorLogits(const torch::Tensor& commands) const;
+  // A semi-MDP selector's reward for env i's last control step, which ended as `ending`.
+  double SemiMdpReward(int i, Termination ending) const;
   // The selector's entropy, or the scratch policy's mean std, after PPO's update.
   double EntropyOrStd(const RunnerStats& runner) const;
 
@@ -169,7 +189,7 @@ class VelocityTrackingTask : public RolloutTask {
   const Communicator& comm_;
   VelocityMethod method_;
   std::optional<SkillLibrary> library_;
-  std::optional<NearestSkillSelector> nearest_;  // the prior's, with nearest_prior
+  SelectorNetwork shape_;  // the selector's input, prior and hold (not its weights)
   int num_envs_, steps_, obs_size_;
   VelocityCommandEnv env_;
   int streams_;  // reward streams: 1, or 2 (tracking, and the rest)
@@ -179,6 +199,10 @@ class VelocityTrackingTask : public RolloutTask {
   VelocityTrackingStats stats_;
 
   std::vector<PolicyRunner> skill_runners_;  // per env: the frozen skills (selector)
+  std::vector<SelectorPrior> priors_;        // per env: the masks and prior, as skilld's (selector)
+  std::vector<SelectorMemory> memories_;     // per env: the running skill and a semi-MDP selector's memory
+  // For the mirrored samples (mirror); without a time-sharing prior, Write changes nothing.
+  mutable std::optional<SelectorPrior> mirror_prior_;
   std::vector<float> previous_action_;       // per env: the last joint action, zero at a reset
   std::vector<float> joint_actions_;         // this step's, num_envs x 12
   std::vector<float> task_obs_;              // num_envs x kTaskObsSize
@@ -194,8 +218,8 @@ class VelocityTrackingTask : public RolloutTask {
     double return_sum = 0.0, reward_sum = 0.0, lin_sum = 0.0, ang_sum = 0.0, lin_err2 = 0.0, ang_err2 = 0.0;
   } sums_;
 
-  torch::Tensor commands_;          // [N, 3] this step's, with nearest_prior
-  torch::Tensor rollout_commands_;  // [T, N, 3], with nearest_prior and mirror
+  // With mirror: each decision's command [T, N, 3] and running skill [T, N] (-1: none).
+  torch::Tensor rollout_commands_, rollout_running_;
 };
 
 }  // namespace flsd

@@ -18,42 +18,16 @@
 #include "skills/runtime/hierarchical_policy.h"
 #include "skills/runtime/safetensors.h"
 #include "tests/common/test_support.h"
+#include "tests/skills/runtime/test_libraries.h"
 
 namespace flsd {
 namespace {
 
 using ::testing::HasSubstr;
 
-struct Velocity {
-  double vx, vy, wz;
-};
-
-// A library whose skill k moves at velocities[k]; skills in `fallen` fell in the randomised
-// evaluation.
-std::string WriteLibrary(const std::vector<Velocity>& velocities, const std::vector<int>& fallen) {
-  TrainConfig config;
-  config.num_skills = static_cast<int>(velocities.size());
-  config.policy.actor_hidden = {8};
-  config.policy.critic_hidden = {8};
-  TrainedPolicy policy;
-  const int obs = PolicyObservationSize(config.num_skills);
-  policy.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
-  policy.normalizer = RunningNormalizer(kMotionObsSize + kActionSize);
-  Evaluation nominal, randomized;
-  for (int k = 0; k < config.num_skills; ++k) {
-    SkillSummary s;
-    s.skill = k;
-    s.survival_steps = 1000;
-    s.mean_linear_velocity = {velocities[k].vx, velocities[k].vy, 0.0};
-    s.mean_angular_velocity = {0.0, 0.0, velocities[k].wz};
-    nominal.skills.push_back(s);
-    s.fell = std::find(fallen.begin(), fallen.end(), k) != fallen.end();
-    randomized.skills.push_back(s);
-  }
-  const std::string path = testutil::UniqueTempPath("nearest.safetensors");
-  WriteSkillLibrary(path, config, policy, nominal, randomized, ExportProvenance{"run", "abc", "def"});
-  return path;
-}
+using testutil::Velocity;
+using testutil::WriteLibrary;
+using testutil::WriteLibraryWithFallingSwitches;
 
 TEST(NearestSkillSelector, ChoosesTheSurvivingSkillNearestTheCommand) {
   const std::string path = WriteLibrary(
@@ -149,17 +123,6 @@ TEST(NearestSkillSelector, ServesAHierarchicalPolicyWithoutALearnedSelectorAndHo
   std::remove(path.c_str());
 }
 
-// A library that records a fall on the switch from skill 1 to skill 2 (flsd transitions --record).
-std::string WriteLibraryWithFallingSwitches(const std::vector<Velocity>& velocities,
-                                            const std::vector<std::pair<int, int>>& falls) {
-  const std::string path = WriteLibrary(velocities, {});
-  SafeTensors file = ReadSafeTensors(path);
-  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
-  meta["transitions"]["falls"] = falls;
-  file.metadata["flsd"] = meta.dump();
-  WriteSafeTensors(path, file);
-  return path;
-}
 
 // Neither selector makes a switch the library records a fall for; from elsewhere, or from a
 // stand, the same command gets the nearest skill.

@@ -4,11 +4,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "robot/observation.h"
 #include "skills/learning/export/export.h"
 #include "skills/runtime/safetensors.h"
+#include "tests/common/test_support.h"
 
 namespace flsd::testutil {
 
@@ -99,6 +103,49 @@ inline void WriteAsVersion1(const std::string& from, const std::string& to) {
     v1.tensors[rest.rfind("normalizer.", 0) == 0 ? rest : "policy." + rest] = tensor;
   }
   WriteSafeTensors(to, v1);
+}
+
+struct Velocity {
+  double vx, vy, wz;
+};
+
+// A library whose skill k moves at velocities[k]; skills in `fallen` fell in the randomised
+// evaluation.
+inline std::string WriteLibrary(const std::vector<Velocity>& velocities, const std::vector<int>& fallen) {
+  TrainConfig config;
+  config.num_skills = static_cast<int>(velocities.size());
+  config.policy.actor_hidden = {8};
+  config.policy.critic_hidden = {8};
+  TrainedPolicy policy;
+  const int obs = PolicyObservationSize(config.num_skills);
+  policy.policy = ActorCritic(obs, obs + 2, kActionSize, config.policy);
+  policy.normalizer = RunningNormalizer(kMotionObsSize + kActionSize);
+  Evaluation nominal, randomized;
+  for (int k = 0; k < config.num_skills; ++k) {
+    SkillSummary s;
+    s.skill = k;
+    s.survival_steps = 1000;
+    s.mean_linear_velocity = {velocities[k].vx, velocities[k].vy, 0.0};
+    s.mean_angular_velocity = {0.0, 0.0, velocities[k].wz};
+    nominal.skills.push_back(s);
+    s.fell = std::find(fallen.begin(), fallen.end(), k) != fallen.end();
+    randomized.skills.push_back(s);
+  }
+  const std::string path = testutil::UniqueTempPath("nearest.safetensors");
+  WriteSkillLibrary(path, config, policy, nominal, randomized, ExportProvenance{"run", "abc", "def"});
+  return path;
+}
+
+// The same, recording a fall on each switch (from, to) in `falls` (flsd transitions --record).
+inline std::string WriteLibraryWithFallingSwitches(const std::vector<Velocity>& velocities,
+                                            const std::vector<std::pair<int, int>>& falls) {
+  const std::string path = WriteLibrary(velocities, {});
+  SafeTensors file = ReadSafeTensors(path);
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  meta["transitions"]["falls"] = falls;
+  file.metadata["flsd"] = meta.dump();
+  WriteSafeTensors(path, file);
+  return path;
 }
 
 }  // namespace flsd::testutil

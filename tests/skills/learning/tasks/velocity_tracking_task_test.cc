@@ -11,6 +11,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <limits>
 
 #include "core/paths.h"
@@ -141,7 +142,8 @@ TEST_F(VelocityTraining, RunsWithRewardStreamsTrainResumeAndExport) {
                                                 Path("streams/checkpoint.pt"));
   {
     torch::NoGradGuard no_grad;
-    EXPECT_EQ(trained.policy->Value(torch::zeros({5, kTaskObsSize})).sizes(), (std::vector<int64_t>{5, 2}));
+    const int columns = VelocityPolicyObsSize(config_, SkillLibrary::Load(library_).num_skills());
+    EXPECT_EQ(trained.policy->Value(torch::zeros({5, columns})).sizes(), (std::vector<int64_t>{5, 2}));
   }
   ExportSelector(Path("streams"), Path("streams.safetensors"));
   EXPECT_TRUE(SkillLibrary::Load(Path("streams.safetensors")).selector().has_value());
@@ -154,7 +156,7 @@ TEST(VelocityCommandEnv, TheEnvelopeSpansTheSurvivingSkillsAndStill) {
   const std::array<Interval, 3> envelope = CommandEnvelope(library, 1.0);
   double vx_min = 0.0, vx_max = 0.0;
   for (const SkillDescriptor& d : library.skills()) {
-    if (EarliestFall(d) || d.survival_steps < 500) continue;  // fell in either evaluation
+    if (!Dependable(d)) continue;
     vx_min = std::min(vx_min, d.mean_linear_velocity.x());
     vx_max = std::max(vx_max, d.mean_linear_velocity.x());
   }
@@ -196,25 +198,31 @@ TEST_F(VelocityTraining, TheExportedSelectorMatchesLibtorchAndRunsTheSkills) {
   torch::manual_seed(11);
   const torch::Tensor obs = torch::randn({16, kTaskObsSize}) * 2.0;
   torch::NoGradGuard no_grad;
-  const torch::Tensor logits = trained.policy->Distribution(trained.normalizer->Normalize(obs));
+  // The network's own logits: its prior columns zero.
+  const int skills = library.num_skills();
+  const torch::Tensor logits = trained.policy->Distribution(
+      torch::cat({trained.normalizer->Normalize(obs), torch::zeros({obs.size(0), skills})}, 1));
   NetworkRunner runner(library.selector()->network);
   HierarchicalPolicy hierarchy(library);
-  std::vector<float> out_logits(library.num_skills()), action(kActionSize), previous(kActionSize, 0.0f);
+  SelectorPrior masks(library, 0.0, 0.0);
+  std::vector<float> out_logits(skills), mask(skills), action(kActionSize), previous(kActionSize, 0.0f);
   double worst = 0.0;
   for (int64_t i = 0; i < obs.size(0); ++i) {
     runner.Run(obs[i].data_ptr<float>(), out_logits.data());
-    for (int k = 0; k < library.num_skills(); ++k) {
+    for (int k = 0; k < skills; ++k) {
       worst = std::max(worst, std::abs(double(out_logits[k]) - logits[i][k].item<double>()));
     }
-    // The hierarchy chooses the most probable skill for the same o^c (built from o^m and the
-    // command the observation encodes).
+    // From a stand, the hierarchy chooses the most probable skill the masks allow for the same o^c
+    // (built from o^m and the command the observation encodes).
     const float* row = obs[i].data_ptr<float>();
     const double command[3] = {row[kMotionObsSize] / 2.0, row[kMotionObsSize + 1] / 2.0,
                                row[kMotionObsSize + 2] / 0.25};
     const std::array<double, 3> clipped = hierarchy.Clip(command);
     if (clipped[0] == command[0] && clipped[1] == command[1] && clipped[2] == command[2]) {
+      hierarchy.Reset();
       const int skill = hierarchy.Act(row, command, previous.data(), action.data());
-      EXPECT_EQ(skill, logits[i].argmax().item<int64_t>()) << "sample " << i;
+      masks.Write(command, -1, mask.data());
+      EXPECT_EQ(skill, (logits[i] + torch::tensor(mask)).argmax().item<int64_t>()) << "sample " << i;
     }
   }
   EXPECT_LT(worst, 1e-4) << "Eigen and libtorch selector logits differ";
@@ -267,6 +275,57 @@ TEST_F(VelocityTraining, TheSelectorHoldsItsChoiceForItsDecisionInterval) {
 
 // With a nearest-skill prior the selector's logits are its network's plus the prior of the command
 // (NearestSkillSelector::Prior), in training (mirrored rollouts too) and as skilld serves it.
+// A semi-MDP selector (1 decision per 5 control steps here, a 0.2-s memory window, a time-sharing
+// prior) is served as it was trained: skilld's HierarchicalPolicy keeps the same memory and prior
+// and chooses what the libtorch policy's most probable skill is, on the same observations.
+TEST_F(VelocityTraining, ASemiMdpSelectorIsServedWithItsMemoryPriorAndHold) {
+  config_.decision_interval = 5;
+  config_.semi_mdp.window_s = 0.2;
+  config_.time_sharing_prior = 3.0;
+  config_.discount_per_second = 0.5;
+  EXPECT_NEAR(VelocityPpoConfig(config_).gamma, std::pow(0.5, 0.1), 1e-12);  // per 0.1-s decision
+  ASSERT_EQ(Train("semi_mdp", 2), 0);
+  const std::string out = Path("semi_mdp.safetensors");
+  ExportSelector(Path("semi_mdp"), out);
+  const SkillLibrary library = SkillLibrary::Load(out);
+  const SelectorNetwork& served = *library.selector();
+  EXPECT_EQ(served.decision_interval, 5);
+  EXPECT_EQ(served.memory_window_steps, 10);
+  EXPECT_EQ(served.time_sharing_prior, 3.0);
+
+  const int skills = library.num_skills(), inputs = served.inputs(skills);
+  TrainedSelector trained = LoadTrainedSelector(config_, skills, Path("semi_mdp/checkpoint.pt"));
+  HierarchicalPolicy hierarchy(library);
+  SelectorMemory memory(10);
+  SelectorPrior prior(library, 0.0, 3.0);
+  torch::manual_seed(17);
+  const torch::Tensor motion = torch::randn({20, kMotionObsSize});
+  const double command[3] = {0.3, 0.1, -0.4};  // within the trained ranges
+  ASSERT_EQ(hierarchy.Clip(command), (std::array<double, 3>{0.3, 0.1, -0.4}));
+  std::vector<float> row(inputs + skills), action(kActionSize), previous(kActionSize, 0.0f);
+  torch::NoGradGuard no_grad;
+  int expected = -1;
+  for (int t = 0; t < 20; ++t) {
+    const float* m = motion[t].data_ptr<float>();
+    if (t % 5 == 0) {
+      BuildTaskObservation(m, command, row.data());
+      memory.WriteFeatures(skills, row.data() + kTaskObsSize);
+      prior.Write(command, memory.running(), row.data() + inputs);
+      const torch::Tensor raw = torch::tensor(row).unsqueeze(0);
+      const int normalized = served.normalized_inputs();
+      const torch::Tensor obs = torch::cat(
+          {trained.normalizer->Normalize(raw.narrow(1, 0, normalized)), raw.narrow(1, normalized, row.size() - normalized)}, 1);
+      expected = static_cast<int>(trained.policy->Distribution(obs)[0].argmax().item<int64_t>());
+    }
+    EXPECT_EQ(hierarchy.Act(m, command, previous.data(), action.data()), expected) << "step " << t;
+    memory.Record(command, expected, m);
+  }
+
+  config_.mirror = true;
+  EXPECT_THAT(InputErrorMessage([&] { ValidateVelocityTrainConfig(config_, "c"); }),
+              HasSubstr("the time-sharing prior and the semi-MDP memory are not mirrored"));
+}
+
 TEST_F(VelocityTraining, ASelectorWithANearestSkillPriorIsServedWithTheSamePrior) {
   config_.nearest_prior_temperature = 0.05;
   config_.mirror = true;

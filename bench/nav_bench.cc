@@ -15,6 +15,9 @@
 #include "core/rng.h"
 #include "navigation_map/map2d.h"
 #include "server/navigation/path_planner.h"
+#include "server/server_config.h"
+#include "skills/learning/evaluation/tracking_eval.h"
+#include "skills/runtime/selector.h"
 #include "skills/runtime/skill_library.h"
 
 namespace flsd {
@@ -44,6 +47,21 @@ std::vector<Goal> DrawGoals(const Map2D& map, int count, double min_distance, Rn
     if (path.status == PlannedPath::Status::kFound) goals.push_back({start, goal, path.length});
   }
   return goals;
+}
+
+// The fastest forward speed that the selector skilld serves for navigate holds within
+// kSteerTolerance, measured as `flsd track` measures (10 s from a stand in simulation, the mean
+// after 2 s), in steps of kSteerStep down from the fastest dependable forward skill: what a path
+// follower can ask for and get. 0 if it holds none.
+constexpr double kSteerTolerance = 0.2;  // m/s
+constexpr double kSteerStep = 0.05;      // m/s
+double SteerableForwardSpeed(const SkillLibrary& library, SelectorKind kind, double forward_top_speed) {
+  const EnvConfig env = TrainingEnvOf(library);
+  for (double v = forward_top_speed; v > 0.0; v -= kSteerStep) {
+    const TrackingEvaluation e = EvaluateTracking(library, env, {{"forward", {v, 0.0, 0.0}}}, 10.0, 2.0, 1, kind);
+    if (e.falls == 0 && e.rms_lin_error <= kSteerTolerance) return v;
+  }
+  return 0.0;
 }
 
 double PathLength(const std::vector<double>& flat) {
@@ -108,13 +126,20 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
   // The ideal speed: the fastest skill the server serves (the selector's choices); and the fastest
   // going forward, the way the follower walks, for a library whose top speed is backward.
   double top_speed = 0.0, forward_top_speed = 0.0;
-  for (const SkillDescriptor& s : SkillLibrary::Load(options.library).skills()) {
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(options.library));
+  for (const SkillDescriptor& s : library.skills()) {
     if (!Dependable(s)) continue;
     const double speed = s.mean_linear_velocity.head<2>().norm();
     top_speed = std::max(top_speed, speed);
     if (s.mean_linear_velocity.x() > 0.0) forward_top_speed = std::max(forward_top_speed, speed);
   }
   if (!(top_speed > 0.0)) throw InputError(options.library + ": no dependable skill moves");
+  const ServerConfig config =
+      LoadServerConfig(ResolveDataPath(options.server_config.empty() ? "configs/server.yaml" : options.server_config));
+  const std::optional<SelectorKind> selector =
+      ServedSelectorKind(library, config.navigation.selector, SelectorKind::kNearestSkill);
+  if (!selector) throw InputError(options.library + ": skilld serves no selector for navigate over it");
+  const double steerable_speed = SteerableForwardSpeed(library, *selector, forward_top_speed);
 
   std::vector<fs::path> files;
   for (const fs::directory_entry& e : fs::directory_iterator(ResolveDataPath("configs/maps"))) {
@@ -128,7 +153,7 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
     const Map2D map = Map2D::Load(file.string());
     const std::vector<Goal> goals = DrawGoals(map, options.goals, options.min_distance, rng);
     nlohmann::json runs = nlohmann::json::array();
-    std::vector<double> ratios, forward_ratios, replans;
+    std::vector<double> ratios, forward_ratios, steerable_ratios, replans;
     double closest = HUGE_VAL;
     int succeeded = 0;
     for (const Goal& goal : goals) {
@@ -137,6 +162,7 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
         ++succeeded;
         ratios.push_back(run["time_over_ideal"]);
         if (forward_top_speed > 0.0) forward_ratios.push_back(ratios.back() * forward_top_speed / top_speed);
+        if (steerable_speed > 0.0) steerable_ratios.push_back(ratios.back() * steerable_speed / top_speed);
       }
       if (run.contains("replans")) replans.push_back(run["replans"]);
       if (run.contains("closest_approach")) closest = std::min(closest, run["closest_approach"].get<double>());
@@ -151,6 +177,8 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
                             {"time_over_ideal_max", Quantile(ratios, 1.0)},
                             {"time_over_forward_ideal_p50", Quantile(forward_ratios, 0.5)},
                             {"time_over_forward_ideal_max", Quantile(forward_ratios, 1.0)},
+                            {"time_over_steerable_ideal_p50", Quantile(steerable_ratios, 0.5)},
+                            {"time_over_steerable_ideal_max", Quantile(steerable_ratios, 1.0)},
                             {"replans_mean", Mean(replans)},
                             {"closest_approach_min", std::isfinite(closest) ? nlohmann::json(closest) : nlohmann::json()},
                             {"runs", runs}};
@@ -161,6 +189,10 @@ nlohmann::json RunNavBenchmark(const NavBenchOptions& options) {
           {"library", options.library},
           {"top_speed", top_speed},
           {"forward_top_speed", forward_top_speed},
+          {"selector", ToString(*selector)},
+          {"steerable_forward_speed", steerable_speed},
+          {"steerable", "the fastest forward command (in 0.05 m/s steps) the navigate selector holds within 0.2 m/s "
+                        "over 10 s from a stand in simulation"},
           {"ideal", "shortest path (straight segments) / top_speed (the fastest skill surviving 500 steps)"},
           {"success_rate", all == 0 ? 0.0 : static_cast<double>(all_succeeded) / all},
           {"maps", maps},

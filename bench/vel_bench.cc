@@ -124,12 +124,16 @@ nlohmann::json RunVelBenchmark(const VelBenchOptions& options) {
   if (!(options.settle_seconds >= 0.0 && options.settle_seconds < options.seconds)) {
     throw InputError("--settle must be at least 0 and below --seconds");
   }
+  if (options.cases != "standard" && options.cases != "evaluation") {
+    throw InputError("--cases '" + options.cases + "': expected standard or evaluation");
+  }
+  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(options.library));
   SkilldProcess skilld(options.library, options.server_config, options.domain_id, "velbench");
   const std::unique_ptr<Client> client = skilld.Connect();
   nlohmann::json cases = nlohmann::json::array();
   double lin2 = 0.0, ang2 = 0.0;
   int measured = 0, held = 0, safety_stops = 0;
-  for (const TrackingCase& c : StandardTrackingCases()) {
+  for (const TrackingCase& c : options.cases == "standard" ? StandardTrackingCases() : EvaluationTrackingCases(library)) {
     nlohmann::json result = Track(*client, c, options);
     if (result.contains("lin_error")) {
       lin2 += std::pow(result["lin_error"].get<double>(), 2);
@@ -141,7 +145,6 @@ nlohmann::json RunVelBenchmark(const VelBenchOptions& options) {
     cases.push_back(std::move(result));
   }
   const int count = static_cast<int>(cases.size());
-  const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(options.library));
   const std::array<int, kNumDirections> direction_skills = DirectionSkills(library);
   nlohmann::json skills = nlohmann::json::array();
   int as_described = 0;
@@ -153,6 +156,7 @@ nlohmann::json RunVelBenchmark(const VelBenchOptions& options) {
           {"library", options.library},
           {"seconds", options.seconds},
           {"settle_seconds", options.settle_seconds},
+          {"case_set", options.cases},
           {"cases", cases},
           {"measured", measured},
           {"rms_lin_error", measured > 0 ? nlohmann::json(std::sqrt(lin2 / measured)) : nlohmann::json()},

@@ -10,11 +10,13 @@ struct VelBenchOptions {
   std::string server_config;  // skilld's --config; empty: skilld's own default (configs/server.yaml)
   double seconds = 4.0;         // each command is held this long
   double settle_seconds = 1.0;  // and measured after this
+  std::string cases = "standard";  // or "evaluation": the 40 of EvaluationTrackingCases
   int domain_id = 44;
 };
 
 // Velocity tracking as a user gets it: the eight commands of `flsd track` (stand, forward,
-// backward, left, right, turn left, turn right, forward while turning) sent to a real skilld
+// backward, left, right, turn left, turn right, forward while turning; or the fixed evaluation
+// set of 40 that begins with them) sent to a real skilld
 // (simulated A1, the library and the selector it serves) as `track_velocity` calls, each from a
 // fresh reset. The achieved velocity is the mean body velocity on the state topic after the settle
 // time. Per command the errors; over them the RMS errors, the safety stops, and how many commands

@@ -28,24 +28,12 @@ ControlState StateOf(Mode task_mode) {
   }
 }
 
-// The selector `selector` names, or none: "learned" over a library without a selector, or "auto"
-// over one without a selector or a surviving skill, leaves the calls it serves unavailable. "auto"
-// without a learned selector is `analytic`.
+// The selector `selector` names (ServedSelectorKind), or none.
 std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const char* key,
                                                 const std::string& selector, SelectorKind analytic) {
-  const bool learned = selector == "learned" || (selector == "auto" && library.selector());
-  if (learned) {
-    return library.selector() ? std::optional<HierarchicalPolicy>(std::in_place, library) : std::nullopt;
-  }
-  if (selector == "auto") {
-    try {
-      return std::optional<HierarchicalPolicy>(std::in_place, library, analytic);
-    } catch (const InputError&) {
-      return std::nullopt;
-    }
-  }
   try {
-    return std::optional<HierarchicalPolicy>(std::in_place, library, ParseSelectorKind(selector));
+    const std::optional<SelectorKind> kind = ServedSelectorKind(library, selector, analytic);
+    return kind ? std::optional<HierarchicalPolicy>(std::in_place, library, *kind) : std::nullopt;
   } catch (const InputError& e) {
     throw InputError(std::string("server config ") + key + ": " + e.what());
   }

@@ -1,7 +1,6 @@
 #include "skills/runtime/selector.h"
 
 #include <algorithm>
-#include <optional>
 #include <vector>
 
 #include "core/check.h"
@@ -130,6 +129,17 @@ std::unique_ptr<SkillSelector> MakeSelector(const SkillLibrary& library, Selecto
     case SelectorKind::kTimeSharing: return std::make_unique<TimeSharing>(library);
   }
   FLSD_DEMAND(false);
+}
+
+std::optional<SelectorKind> ServedSelectorKind(const SkillLibrary& library, const std::string& name,
+                                               SelectorKind analytic) {
+  const SelectorKind kind = name == "auto" ? (library.selector() ? SelectorKind::kLearned : analytic)
+                                           : ParseSelectorKind(name);
+  const bool runs = kind == SelectorKind::kLearned
+                        ? library.selector().has_value()
+                        : std::any_of(library.skills().begin(), library.skills().end(),
+                                      [](const SkillDescriptor& d) { return Dependable(d); });
+  return runs ? std::optional<SelectorKind>(kind) : std::nullopt;
 }
 
 SelectorPrior::SelectorPrior(const SkillLibrary& library, double nearest_temperature, double time_sharing_bonus)

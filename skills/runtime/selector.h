@@ -8,6 +8,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "skills/runtime/nearest_skill.h"
@@ -51,6 +52,13 @@ class SkillSelector {
 // Throws InputError if `kind` is kLearned and the library has no selector. Holds a reference to
 // `library`, which must outlive it. Choose does no heap allocation.
 std::unique_ptr<SkillSelector> MakeSelector(const SkillLibrary& library, SelectorKind kind);
+
+// The selector a server config names for `library`: "learned", "nearest_skill", "time_sharing",
+// or "auto", which is learned if the library has a selector and `analytic` if not. std::nullopt
+// where the named one cannot run over it (learned without a selector, an analytic one without a
+// dependable skill): the calls it would serve are unavailable. Throws InputError for another name.
+std::optional<SelectorKind> ServedSelectorKind(const SkillLibrary& library, const std::string& name,
+                                               SelectorKind analytic);
 
 // The logits a learned selector's network's own are added to, written the same way in its training
 // and in serving: NearestSkillSelector::kExcludedLogit for a skill it may not choose (one that is

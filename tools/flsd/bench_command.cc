@@ -96,13 +96,15 @@ void AddBenchmarks(CLI::App& app, Subcommands& out) {
       },
       RunNavBenchmark);
   AddBenchmark<VelBenchOptions>(
-      *bench, out, "vel", "The eight tracking commands through a real skilld, from fresh resets",
+      *bench, out, "vel", "Tracking commands through a real skilld, from fresh resets",
       [](CLI::App& cmd, VelBenchOptions& o) {
         cmd.add_option("--library", o.library, "Skill library skilld serves");
         cmd.add_option("--server-config", o.server_config, "skilld's config (default: skilld's, configs/server.yaml)");
         cmd.add_option("--seconds", o.seconds, "Seconds each command is held")->check(CLI::Range(0.5, 600.0));
         cmd.add_option("--settle", o.settle_seconds, "Seconds before the velocity is measured")
             ->check(CLI::Range(0.0, 600.0));
+        cmd.add_option("--cases", o.cases, "standard: the eight commands; evaluation: those and 32 drawn once")
+            ->check(CLI::IsMember({"standard", "evaluation"}));
         cmd.add_option("--domain", o.domain_id, "DDS domain of the skilld it starts")->check(CLI::Range(0, 232));
       },
       RunVelBenchmark);

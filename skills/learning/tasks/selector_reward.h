@@ -16,10 +16,12 @@ struct SelectorRewardConfig {
   // selector sees o^c alone and is paid legged_gym's reward, as in the paper.
   double window_s = 0.0;
   double window_share = 0.8;  // of the tracking reward paid on the window's mean; the rest on each step
-  // (m/s)^2 of exp(-|e|^2 / sigma), |e| with the yaw rate weighted as the nearest-skill distance
-  // weighs it: 0.1 m/s off earns 0.90, 0.3 m/s 0.41, so that a command no skill reaches still
-  // pays for coming closer.
+  // (m/s)^2 of exp(-|e|^2 / sigma), |e| with the yaw rate weighted by turn_weight: 0.1 m/s off
+  // earns 0.90, 0.3 m/s 0.41, so that a command no skill reaches still pays for coming closer.
   double sigma = 0.1;
+  // m/s that a yaw-rate error of 1 rad/s counts as in |e| (NearestSkillSelector::kTurnWeight's 0.5
+  // weighs a turn as the skills' choice does; the evaluation reports the two errors apart).
+  double turn_weight = 0.5;
   double penalty_scale = 0.02;  // times legged_gym's non-tracking terms (per second)
   double fall_penalty = 2.0;   // once, when the robot falls
   template <class V>
@@ -27,6 +29,7 @@ struct SelectorRewardConfig {
     v("window_s", window_s, Bounds<double>{0.0, 60.0});
     v("window_share", window_share, Bounds<double>{0.0, 1.0});
     v("sigma", sigma, Bounds<double>{1e-4, 10.0});
+    v("turn_weight", turn_weight, Bounds<double>{0.0, 10.0});
     v("penalty_scale", penalty_scale, Bounds<double>{0.0, 100.0});
     v("fall_penalty", fall_penalty, Bounds<double>{0.0, 1e3});
   }

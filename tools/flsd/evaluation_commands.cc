@@ -167,7 +167,8 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
 
   struct TransitionArgs {
     std::string library = "models/a1_flsd.safetensors";
-    double first = 2.0, seconds = 4.0;
+    std::vector<double> first{2.0};
+    double seconds = 4.0;
     int handovers = 5;
     bool record = false;
   };
@@ -175,7 +176,10 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   CLI::App* transitions_cmd = app.add_subcommand(
       "transitions", "Switch between every ordered pair of a library's dependable skills, and count the falls");
   transitions_cmd->add_option("library", transitions->library, "Skill library (default: the shipped one)");
-  transitions_cmd->add_option("--first", transitions->first, "Seconds the first skill runs from a stand")
+  transitions_cmd
+      ->add_option("--first", transitions->first,
+                   "Seconds the first skill runs from a stand; several: each is run, and a switch that fell in any "
+                   "is recorded")
       ->check(CLI::Range(0.5, 60.0));
   transitions_cmd->add_option("--seconds", transitions->seconds, "Seconds the second skill runs")
       ->check(CLI::Range(1.5, 60.0));
@@ -187,10 +191,15 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   out.push_back({transitions_cmd, [transitions] {
                    const std::string path = ResolveDataPath(transitions->library);
                    const SkillLibrary library = SkillLibrary::Load(path);
-                   const TransitionEvaluation evaluation = EvaluateTransitions(
-                       library, TrainingEnvOf(library), transitions->first, transitions->seconds, 1.0, 1, transitions->handovers);
-                   if (transitions->record) RecordTransitions(path, evaluation);
-                   return PrintJson(TransitionJson(evaluation));
+                   std::vector<TransitionEvaluation> evaluations;
+                   nlohmann::json out = nlohmann::json::array();
+                   for (double first : transitions->first) {
+                     evaluations.push_back(EvaluateTransitions(library, TrainingEnvOf(library), first,
+                                                               transitions->seconds, 1.0, 1, transitions->handovers));
+                     out.push_back(TransitionJson(evaluations.back()));
+                   }
+                   if (transitions->record) RecordTransitions(path, evaluations);
+                   return PrintJson(out.size() == 1 ? out[0] : out);
                  }});
 }
 

@@ -1,5 +1,8 @@
 #include "skills/learning/evaluation/transition_eval.h"
 
+#include <set>
+#include <utility>
+
 #include <cmath>
 
 #include "core/check.h"
@@ -104,14 +107,22 @@ nlohmann::json TransitionJson(const TransitionEvaluation& e) {
           {"results", results}};
 }
 
-void RecordTransitions(const std::string& path, const TransitionEvaluation& e) {
+void RecordTransitions(const std::string& path, const std::vector<TransitionEvaluation>& evaluations) {
+  FLSD_DEMAND(!evaluations.empty());
   SafeTensors file = ReadSafeTensors(path);
   nlohmann::json metadata = nlohmann::json::parse(file.metadata.at("flsd"));
-  nlohmann::json falls = nlohmann::json::array();
-  for (const TransitionResult& r : e.results) {
-    if (r.from >= 0 && r.fell) falls.push_back({r.from, r.to});
+  std::set<std::pair<int, int>> fell;
+  nlohmann::json first_seconds = nlohmann::json::array();
+  for (const TransitionEvaluation& e : evaluations) {
+    first_seconds.push_back(e.first_seconds);
+    for (const TransitionResult& r : e.results) {
+      if (r.from >= 0 && r.fell) fell.insert({r.from, r.to});
+    }
   }
-  metadata["transitions"] = {{"first_seconds", e.first_seconds},
+  nlohmann::json falls = nlohmann::json::array();
+  for (const auto& [from, to] : fell) falls.push_back({from, to});
+  const TransitionEvaluation& e = evaluations.front();
+  metadata["transitions"] = {{"first_seconds", first_seconds},
                              {"second_seconds", e.second_seconds},
                              {"handovers", e.handovers},
                              {"pairs", e.pairs},

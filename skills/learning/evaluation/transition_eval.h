@@ -43,8 +43,10 @@ TransitionEvaluation EvaluateTransitions(const SkillLibrary& library, const EnvC
 nlohmann::json TransitionJson(const TransitionEvaluation& evaluation);
 
 // Writes the library at `path` again (atomically, checked as skilld loads it) with the switches that
-// fell recorded as /transitions (the durations, the pairs run and the falls, [from, to]), replacing
-// any recorded before. skilld's selectors then never make those switches (SkillLibrary::SwitchFell).
-void RecordTransitions(const std::string& path, const TransitionEvaluation& evaluation);
+// fell in any of `evaluations` (run with different first_seconds: a selector that holds a skill
+// 1 s switches out of it earlier than one that holds it 2 s) recorded as /transitions (the
+// durations, the pairs run and the falls, [from, to]), replacing any recorded before. skilld's
+// selectors then never make those switches (SkillLibrary::SwitchFell).
+void RecordTransitions(const std::string& path, const std::vector<TransitionEvaluation>& evaluations);
 
 }  // namespace flsd

@@ -45,8 +45,8 @@ TEST(EvaluateTransitions, RunsEveryOrderedPairAndEachSkillFromAStand) {
 }
 
 // Switched at more moments of a's stride, a pair falls at least where it fell at the first (which
-// is the same rollout); the falls recorded in the library are those of the evaluation, replaced by
-// a later record. Three skills of the shipped library: the 0.88 m/s walk and the two turns in
+// is the same rollout); the falls recorded in the library are those of the evaluations, replaced
+// by a later record. Three skills of the shipped library: the 0.88 m/s walk and the two turns in
 // place, the left one of which the walk falls into.
 TEST(EvaluateTransitions, MoreHandoversFindAtLeastTheFallsOfOneAndTheRecordKeepsThem) {
   const std::string path = testutil::UniqueTempPath("transitions.safetensors");
@@ -65,7 +65,7 @@ TEST(EvaluateTransitions, MoreHandoversFindAtLeastTheFallsOfOneAndTheRecordKeeps
   EXPECT_GE(five.falls, one.falls);
   EXPECT_GT(five.falls, 0) << "the walk into the left turn fell at the fourth or fifth handover: nothing was recorded";
 
-  RecordTransitions(path, five);
+  RecordTransitions(path, {five});
   const SkillLibrary recorded = SkillLibrary::Load(path);
   int recorded_falls = 0;
   for (const TransitionResult& r : five.results) {
@@ -77,8 +77,16 @@ TEST(EvaluateTransitions, MoreHandoversFindAtLeastTheFallsOfOneAndTheRecordKeeps
   EXPECT_EQ(recorded.metadata()["transitions"]["handovers"], 5);
   TransitionEvaluation none = five;
   for (TransitionResult& r : none.results) r.fell = false;
-  RecordTransitions(path, none);
+  RecordTransitions(path, {none});
   EXPECT_TRUE(SkillLibrary::Load(path).falling_switches().empty());
+  // Two evaluations (a switch after 1 s of a, and after 2 s): a switch that fell in either is kept.
+  TransitionEvaluation earlier = none;
+  earlier.first_seconds = 1.0;
+  earlier.results.back().fell = earlier.results.back().from >= 0;
+  RecordTransitions(path, {five, earlier});
+  const SkillLibrary both = SkillLibrary::Load(path);
+  EXPECT_EQ(static_cast<int>(both.falling_switches().size()), five.falls + !five.results.back().fell);
+  EXPECT_EQ(both.metadata()["transitions"]["first_seconds"], nlohmann::json::array({2.0, 1.0}));
   std::remove(path.c_str());
 }
 

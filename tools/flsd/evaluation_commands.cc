@@ -1,4 +1,4 @@
-// flsd eval, eval-library, export, export-selector, compose-library, track and transitions.
+// flsd eval, eval-library, export, export-selector, selector-curve, compose-library, track and transitions.
 
 #include <cstdio>
 #include <memory>
@@ -123,9 +123,20 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
       app.add_subcommand("export-selector", "Add a selector run's skill selector to its skill library");
   export_selector_cmd->add_option("run", selector->run_dir, "Selector run folder (flsd train-selector)")->required();
   export_selector_cmd->add_option("-o,--output", selector->library_path, "Library file to write")->required();
+  export_selector_cmd->add_option("--iteration", selector->kept_iteration, kKeptIterationHelp)
+      ->check(CLI::Range(1, 100000000));
   out.push_back({export_selector_cmd, [selector] {
                    ConfigureTorchThreads(0);
-                   return PrintJson(ExportSelector(selector->run_dir, selector->library_path));
+                   return PrintJson(ExportSelector(selector->run_dir, selector->library_path, selector->kept_iteration));
+                 }});
+
+  auto curve = std::make_shared<std::string>();
+  CLI::App* curve_cmd = app.add_subcommand(
+      "selector-curve", "Track the fixed evaluation set with each kept checkpoint of a selector run, and the latest");
+  curve_cmd->add_option("run", *curve, "Selector run folder (flsd train-selector)")->required();
+  out.push_back({curve_cmd, [curve] {
+                   ConfigureTorchThreads(0);
+                   return PrintJson(SelectorCurve(*curve));
                  }});
 
   struct ComposeArgs {

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/check.h"
 #include "flsd_commit.h"
 #include "robot/observation.h"
@@ -121,7 +122,7 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, in
           {"state_coverage_rate", evaluation.coverage.rate}};
 }
 
-nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path) {
+nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path, int iteration) {
   namespace fs = std::filesystem;
   const std::string config_file = (fs::path(run_dir) / "config.yaml").string();
   const VelocityTrainConfig config = LoadVelocityTrainConfig(config_file);
@@ -130,7 +131,7 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
   }
   const SkillLibrary base = SkillLibrary::Load(config.library);
   const TrainedSelector selector =
-      LoadTrainedSelector(config, base.num_skills(), (fs::path(run_dir) / "checkpoint.pt").string());
+      LoadTrainedSelector(config, base.num_skills(), RunCheckpoint(run_dir, iteration));
   if (selector.library_fingerprint != base.fingerprint()) {
     throw InputError(run_dir + ": the selector was trained over a library with fingerprint " +
                      selector.library_fingerprint + ", but " + config.library + " now has " + base.fingerprint());
@@ -183,8 +184,34 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
   metadata["selector"]["evaluation"] = TrackingJson(tracking);
   file.metadata["flsd"] = metadata.dump();
   WriteSafeTensors(path, file);
-  return {{"library", path}, {"base_library", config.library}, {"iteration", selector.iteration},
+  return {{"library", path},
+          {"base_library", config.library},
+          {"iteration", selector.iteration},
+          {"env_steps", selector.env_steps},
           {"tracking", TrackingJson(tracking)}};
+}
+
+nlohmann::json SelectorCurve(const std::string& run_dir) {
+  namespace fs = std::filesystem;
+  std::vector<int> iterations = KeptIterations(run_dir);
+  iterations.push_back(0);  // the latest
+  const std::string library = (fs::path(run_dir) / "selector_curve.safetensors.tmp").string();
+  nlohmann::json rows = nlohmann::json::array();
+  for (int iteration : iterations) {
+    const nlohmann::json exported = ExportSelector(run_dir, library, iteration);
+    const nlohmann::json& t = exported["tracking"];
+    if (iteration == 0 && !rows.empty() && rows.back()["iteration"] == exported["iteration"]) continue;
+    rows.push_back({{"iteration", exported["iteration"]},
+                    {"env_steps", exported["env_steps"]},
+                    {"rms_lin_error", t["rms_lin_error"]},
+                    {"rms_ang_error", t["rms_ang_error"]},
+                    {"falls", t["falls"]},
+                    {"switches_per_s", t["switches_per_s"]}});
+  }
+  fs::remove(library);
+  const nlohmann::json out = {{"run", run_dir}, {"cases", "evaluation"}, {"rows", rows}};
+  WriteFileAtomically((fs::path(run_dir) / "selector_curve.json").string(), out.dump(2) + "\n");
+  return out;
 }
 
 }  // namespace flsd

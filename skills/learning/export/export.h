@@ -33,9 +33,15 @@ void WriteSkillLibrary(const std::string& path, const TrainConfig& config, const
 // randomisation and with it (kRandomizedStarts starts), and writes its library to `path`.
 nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, int iteration = 0);
 
-// Adds a selector run's (flsd train-selector) selector to the library it was trained over and
-// writes the result to `path` (which may be that library itself). Refuses if the library changed
-// since training. The selector's tracking evaluation (tracking_eval.h) goes into its metadata.
-nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path);
+// Adds a selector run's (flsd train-selector) selector, from its latest checkpoint or the one
+// kept at `iteration`, to the library it was trained over and writes the result to `path` (which
+// may be that library itself). Refuses if the library changed since training. The selector's
+// tracking evaluation on the fixed evaluation set (tracking_eval.h) goes into its metadata.
+nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path, int iteration = 0);
+
+// A selector run's evaluation over training (Fig. 8's second axis): each kept checkpoint and the
+// latest, exported and tracked on the fixed evaluation set. Rows of iteration, env_steps, the RMS
+// errors, falls and switches per second; also written to run_dir/selector_curve.json.
+nlohmann::json SelectorCurve(const std::string& run_dir);
 
 }  // namespace flsd

@@ -34,11 +34,8 @@ std::string KeptCheckpointPath(const std::string& run_dir, int iteration) {
   return (std::filesystem::path(run_dir) / "checkpoints" / (std::to_string(iteration) + ".pt")).string();
 }
 
-std::string RunCheckpoint(const std::string& run_dir, int iteration) {
+std::vector<int> KeptIterations(const std::string& run_dir) {
   namespace fs = std::filesystem;
-  if (iteration == 0) return (fs::path(run_dir) / "checkpoint.pt").string();
-  const std::string path = KeptCheckpointPath(run_dir, iteration);
-  if (fs::exists(path)) return path;
   std::vector<int> kept;
   const fs::path dir = fs::path(run_dir) / "checkpoints";
   if (fs::is_directory(dir)) {
@@ -48,6 +45,15 @@ std::string RunCheckpoint(const std::string& run_dir, int iteration) {
     }
   }
   std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+std::string RunCheckpoint(const std::string& run_dir, int iteration) {
+  namespace fs = std::filesystem;
+  if (iteration == 0) return (fs::path(run_dir) / "checkpoint.pt").string();
+  const std::string path = KeptCheckpointPath(run_dir, iteration);
+  if (fs::exists(path)) return path;
+  const std::vector<int> kept = KeptIterations(run_dir);
   std::string list;
   for (int k : kept) list += (list.empty() ? "" : ", ") + std::to_string(k);
   throw InputError(run_dir + " kept no checkpoint of iteration " + std::to_string(iteration) + " (" +

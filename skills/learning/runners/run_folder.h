@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace flsd {
 
@@ -19,6 +20,8 @@ std::optional<int> ParseIteration(const std::string& text);
 // run_dir/checkpoints/ITER.pt, where OnPolicyRunner::Learn keeps a copy of the checkpoint every
 // `keep_every` iterations.
 std::string KeptCheckpointPath(const std::string& run_dir, int iteration);
+// The iterations whose checkpoints the run kept, in order.
+std::vector<int> KeptIterations(const std::string& run_dir);
 // The checkpoint a command loads: the latest (iteration 0) or a kept one. Throws InputError
 // naming the iterations kept when there is none for `iteration`.
 std::string RunCheckpoint(const std::string& run_dir, int iteration);

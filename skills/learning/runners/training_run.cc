@@ -160,7 +160,7 @@ int RunVelocityTraining(const VelocityRunOptions& options, const std::atomic<boo
       task.library() ? " over " + config.library : std::string(), options.run_dir, config.num_envs,
       config.steps_per_env, config.iterations);
   return Train(task, VelocityPpoConfig(config), config.seed, comm, folder, options.resume, "", new_run,
-               {config.iterations, config.checkpoint_every, 0}, stop_requested);
+               {config.iterations, config.checkpoint_every, config.keep_checkpoint_every}, stop_requested);
 }
 
 }  // namespace flsd

@@ -65,6 +65,7 @@ struct VelocityTrainConfig {
   double discount_per_second = 0.0;
   int iterations = 500;
   int checkpoint_every = 25;
+  int keep_checkpoint_every = 0;  // a copy of the checkpoint every this many iterations (0: none)
   EnvConfig env;
   VelocityEnvConfig task;
   PolicyConfig policy;
@@ -87,6 +88,7 @@ struct VelocityTrainConfig {
     v("discount_per_second", discount_per_second, Bounds<double>{0.0, 1.0});
     v("iterations", iterations, Bounds<int>{1, 100000000});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
+    v("keep_checkpoint_every", keep_checkpoint_every, Bounds<int>{0, 100000000});
     v("env", env);
     v("task", task);
     v("policy", policy);

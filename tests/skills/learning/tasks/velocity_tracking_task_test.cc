@@ -326,6 +326,21 @@ TEST_F(VelocityTraining, ASemiMdpSelectorIsServedWithItsMemoryPriorAndHold) {
               HasSubstr("the time-sharing prior and the semi-MDP memory are not mirrored"));
 }
 
+// The evaluation over training: each kept checkpoint and the latest, exported and tracked on
+// the fixed evaluation set, in order of the env steps they had trained on.
+TEST_F(VelocityTraining, TheSelectorCurveTracksEachKeptCheckpoint) {
+  config_.keep_checkpoint_every = 1;
+  ASSERT_EQ(Train("curve", 2), 0);
+  const nlohmann::json curve = SelectorCurve(Path("curve"));
+  ASSERT_EQ(curve["rows"].size(), 2u);  // iterations 1 and 2 (the latest is 2)
+  EXPECT_EQ(curve["rows"][0]["iteration"], 1);
+  EXPECT_EQ(curve["rows"][1]["iteration"], 2);
+  EXPECT_LT(curve["rows"][0]["env_steps"].get<long>(), curve["rows"][1]["env_steps"].get<long>());
+  EXPECT_GT(curve["rows"][1]["rms_lin_error"].get<double>(), 0.0);
+  EXPECT_TRUE(fs::exists(Path("curve/selector_curve.json")));
+  EXPECT_FALSE(fs::exists(Path("curve/selector_curve.safetensors.tmp")));
+}
+
 TEST_F(VelocityTraining, ASelectorWithANearestSkillPriorIsServedWithTheSamePrior) {
   config_.nearest_prior_temperature = 0.05;
   config_.mirror = true;

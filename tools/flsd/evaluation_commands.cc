@@ -130,13 +130,19 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
                    return PrintJson(ExportSelector(selector->run_dir, selector->library_path, selector->kept_iteration));
                  }});
 
-  auto curve = std::make_shared<std::string>();
+  struct CurveArgs {
+    std::string run_dir, cases_library;
+  };
+  auto curve = std::make_shared<CurveArgs>();
   CLI::App* curve_cmd = app.add_subcommand(
       "selector-curve", "Track the fixed evaluation set with each kept checkpoint of a selector run, and the latest");
-  curve_cmd->add_option("run", *curve, "Selector run folder (flsd train-selector)")->required();
+  curve_cmd->add_option("run", curve->run_dir, "Selector run folder (flsd train-selector)")->required();
+  curve_cmd->add_option("--cases-from", curve->cases_library,
+                        "The library whose evaluation set is tracked (default: the run's own)");
   out.push_back({curve_cmd, [curve] {
                    ConfigureTorchThreads(0);
-                   return PrintJson(SelectorCurve(*curve));
+                   return PrintJson(SelectorCurve(
+                       curve->run_dir, curve->cases_library.empty() ? "" : ResolveDataPath(curve->cases_library)));
                  }});
 
   struct ComposeArgs {

@@ -191,25 +191,29 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
           {"tracking", TrackingJson(tracking)}};
 }
 
-nlohmann::json SelectorCurve(const std::string& run_dir) {
+nlohmann::json SelectorCurve(const std::string& run_dir, const std::string& cases_library) {
   namespace fs = std::filesystem;
   std::vector<int> iterations = KeptIterations(run_dir);
   iterations.push_back(0);  // the latest
   const std::string library = (fs::path(run_dir) / "selector_curve.safetensors.tmp").string();
   nlohmann::json rows = nlohmann::json::array();
+  std::string cases_from;
   for (int iteration : iterations) {
     const nlohmann::json exported = ExportSelector(run_dir, library, iteration);
-    const nlohmann::json& t = exported["tracking"];
     if (iteration == 0 && !rows.empty() && rows.back()["iteration"] == exported["iteration"]) continue;
+    const SkillLibrary served = SkillLibrary::Load(library);
+    cases_from = cases_library.empty() ? exported["base_library"].get<std::string>() : cases_library;
+    const std::vector<TrackingCase> cases = EvaluationTrackingCases(SkillLibrary::Load(cases_from));
+    const TrackingEvaluation t = EvaluateTracking(served, TrainingEnvOf(served), cases, 10.0, 2.0, 1);
     rows.push_back({{"iteration", exported["iteration"]},
                     {"env_steps", exported["env_steps"]},
-                    {"rms_lin_error", t["rms_lin_error"]},
-                    {"rms_ang_error", t["rms_ang_error"]},
-                    {"falls", t["falls"]},
-                    {"switches_per_s", t["switches_per_s"]}});
+                    {"rms_lin_error", t.rms_lin_error},
+                    {"rms_ang_error", t.rms_ang_error},
+                    {"falls", t.falls},
+                    {"switches_per_s", t.switches_per_s}});
   }
   fs::remove(library);
-  const nlohmann::json out = {{"run", run_dir}, {"cases", "evaluation"}, {"rows", rows}};
+  const nlohmann::json out = {{"run", run_dir}, {"cases_from", cases_from}, {"rows", rows}};
   WriteFileAtomically((fs::path(run_dir) / "selector_curve.json").string(), out.dump(2) + "\n");
   return out;
 }

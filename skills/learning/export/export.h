@@ -40,8 +40,10 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, in
 nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path, int iteration = 0);
 
 // A selector run's evaluation over training (Fig. 8's second axis): each kept checkpoint and the
-// latest, exported and tracked on the fixed evaluation set. Rows of iteration, env_steps, the RMS
-// errors, falls and switches per second; also written to run_dir/selector_curve.json.
-nlohmann::json SelectorCurve(const std::string& run_dir);
+// latest, exported and tracked on the fixed evaluation set of `cases_library` (empty: of the
+// library the run chose from; selectors over different libraries are compared on one set). Rows
+// of iteration, env_steps, the RMS errors, falls and switches per second; also written to
+// run_dir/selector_curve.json.
+nlohmann::json SelectorCurve(const std::string& run_dir, const std::string& cases_library = "");
 
 }  // namespace flsd

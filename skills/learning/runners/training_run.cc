@@ -144,8 +144,7 @@ int RunVelocityTraining(const VelocityRunOptions& options, const std::atomic<boo
       commands.vy = envelope[1];
       commands.wz = envelope[2];
     }
-    if (commands.skill_share > 0.0) {
-      commands.skill_velocities.clear();
+    if (commands.skill_share > 0.0 && commands.skill_velocities.empty()) {
       const NearestSkillSelector dependable(library);
       for (const Eigen::Vector3d& v : dependable.velocities()) {
         commands.skill_velocities.insert(commands.skill_velocities.end(), {v.x(), v.y(), v.z()});

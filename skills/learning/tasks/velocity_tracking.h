@@ -28,8 +28,9 @@ struct VelocityCommandConfig {
   double library_envelope = 0.0;
   // A share of the commands is drawn near what some skill does: one of skill_velocities (flat
   // (vx, vy, wz) triples), uniformly, plus uniform noise within +-skill_noise on each axis. A new
-  // selector run with skill_share > 0 fills skill_velocities from its library's dependable skills,
-  // so that it learns where its skills can follow (the uniform box is mostly combinations none can).
+  // selector run with skill_share > 0 and no skill_velocities fills them from its library's
+  // dependable skills, so that it learns where its skills can follow (the uniform box is mostly
+  // combinations none can); given ones (another library's, for a comparison on one task) are kept.
   double skill_share = 0.0;
   std::vector<double> skill_noise{0.2, 0.2, 0.4};  // m/s, m/s, rad/s
   std::vector<double> skill_velocities;

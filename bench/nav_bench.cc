@@ -58,7 +58,7 @@ constexpr double kSteerStep = 0.05;      // m/s
 double SteerableForwardSpeed(const SkillLibrary& library, SelectorKind kind, double forward_top_speed) {
   const EnvConfig env = TrainingEnvOf(library);
   for (double v = forward_top_speed; v > 0.0; v -= kSteerStep) {
-    const TrackingEvaluation e = EvaluateTracking(library, env, {{"forward", {v, 0.0, 0.0}}}, 10.0, 2.0, 1, kind);
+    const TrackingEvaluation e = EvaluateTracking(library, env, {{"forward", {v, 0.0, 0.0}}}, 10.0, 2.0, kTrackingEnvSeed, kind);
     if (e.falls == 0 && e.rms_lin_error <= kSteerTolerance) return v;
   }
   return 0.0;

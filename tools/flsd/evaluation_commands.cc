@@ -179,7 +179,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
                    const SkillLibrary library = SkillLibrary::Load(ResolveDataPath(track->library));
                    const std::vector<TrackingCase> cases =
                        track->cases == "standard" ? StandardTrackingCases() : EvaluationTrackingCases(library);
-                   return PrintJson(CompareSelectors(library, cases, track->seconds, 2.0, 1));
+                   return PrintJson(CompareSelectors(library, cases, track->seconds, 2.0, kTrackingEnvSeed));
                  }});
 
   struct TransitionArgs {

@@ -175,7 +175,7 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
   TrackingEvaluation tracking;
   try {
     const SkillLibrary library = SkillLibrary::Load(unevaluated);
-    tracking = EvaluateTracking(library, config.env, EvaluationTrackingCases(library), 10.0, 2.0, config.seed);
+    tracking = EvaluateTracking(library, config.env, EvaluationTrackingCases(library), 10.0, 2.0, kTrackingEnvSeed);
   } catch (...) {
     fs::remove(unevaluated);
     throw;
@@ -204,7 +204,7 @@ nlohmann::json SelectorCurve(const std::string& run_dir, const std::string& case
     const SkillLibrary served = SkillLibrary::Load(library);
     cases_from = cases_library.empty() ? exported["base_library"].get<std::string>() : cases_library;
     const std::vector<TrackingCase> cases = EvaluationTrackingCases(SkillLibrary::Load(cases_from));
-    const TrackingEvaluation t = EvaluateTracking(served, TrainingEnvOf(served), cases, 10.0, 2.0, 1);
+    const TrackingEvaluation t = EvaluateTracking(served, TrainingEnvOf(served), cases, 10.0, 2.0, kTrackingEnvSeed);
     rows.push_back({{"iteration", exported["iteration"]},
                     {"env_steps", exported["env_steps"]},
                     {"rms_lin_error", t.rms_lin_error},

@@ -29,7 +29,7 @@ struct CallSpec {
   Call call;
   const char* name;
   bool needs_control;  // refused unless the caller holds the control lease
-  bool long_running;   // accepted at once; progress and result on the state topic
+  bool long_running;   // answered once accepted, not when done; progress and result on the state topic
 };
 
 // In the order of the enum: kCallSpecs[int(call)] describes `call`.

@@ -75,7 +75,7 @@ void Controller::Tick() {
   robot_ = backend_.Read();
   ++tick_;
   Supervise();  // first: a trip overrides whatever a request asks for in this tick
-  requests_.TakeAll([this](const ControlRequest& request) { Apply(request); });
+  applied_ = requests_.TakeAll([this](const ControlRequest& request) { Apply(request); });
   // A task waiting for the stand starts now, so that its policy acts from its first published tick.
   if (state_ == ControlState::kStand || (state_ == ControlState::kLieDown && stand_.settled())) SettledStand();
   backend_.Send(Command());
@@ -402,6 +402,7 @@ void Controller::Publish() {
     s.safety_trips = safety_trips_;
     s.stop_client = stop_client_;
     s.stop_time = stop_time_;
+    s.applied = applied_;
     s.hazards = hazards_;
     s.backend_fault = backend_fault_;
     s.task = task_.status();

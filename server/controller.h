@@ -75,6 +75,7 @@ struct ControllerStatus {
   uint64_t safety_trips = 0;  // ever; a client compares counts to learn of new trips
   ClientId stop_client{};     // who pressed the emergency stop latched now (kFaultStop)
   double stop_time = 0.0;     // s, when it was pressed
+  uint64_t applied = 0;       // the newest ticket applied (Submit): every request up to it shows here
   uint32_t hazards = 0;       // SafetySupervisor::Hazards, plus kFaultBackend: what forbids standing now
   FixedText backend_fault{};  // the backend's account of its fault, while it has one
   TaskStatus task;
@@ -85,14 +86,15 @@ class Controller {
   // `backend` and `library` must outlive the controller.
   Controller(Backend& backend, const SkillLibrary& library, const ServerConfig& config);
 
-  // Queues a request for the next tick. Returns false if the queue is full (a flood).
-  bool Submit(const ControlRequest& request) { return requests_.Submit(request); }
+  // Queues a request for the next tick. Returns its ticket, which status().applied reaches once a
+  // tick has applied it, or 0 if the queue is full (a flood).
+  uint64_t Submit(const ControlRequest& request) { return requests_.Submit(request); }
 
   // For the requests that must never wait behind a full queue or be refused: the emergency stop
   // (kDamp) and stops (kStop: a lapsed or released lease, the end of a navigation). The next tick
   // applies them after the queue, in the order they came, so they override whatever came with
-  // them (RequestQueue).
-  void SubmitUrgent(const ControlRequest& request) { requests_.SubmitUrgent(request); }
+  // them (RequestQueue). Returns the ticket, as Submit.
+  uint64_t SubmitUrgent(const ControlRequest& request) { return requests_.SubmitUrgent(request); }
 
   // One control period: read the state, supervise, apply queued requests, command the backend.
   void Tick();
@@ -180,6 +182,7 @@ class Controller {
   ControlState state_ = ControlState::kIdle;
   RobotState robot_;
   uint64_t tick_ = 0;
+  uint64_t applied_ = 0;  // the newest request ticket applied
   uint32_t latched_faults_ = 0;
   uint32_t hazards_ = 0;
   FixedText fault_message_{};

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <iterator>
 
 #include "comm/protocol.h"
 
@@ -105,10 +107,11 @@ void DdsService::ServeRequests() {
             ? audit_.Describe(!domain_.secured() ? "" : identity.empty() ? "unmatched" : identity, request)
             : "";
     try {
-      const DeferredReply later = [this, client_id, request_id, deadline_ns, audited](const ReplyContent& content) {
+      const DeferredReply send = [this, client_id, request_id, deadline_ns, audited](const ReplyContent& content) {
         SendReply(client_id, request_id, deadline_ns, content);
         if (!audited.empty()) audit_.Record(audited, content);
       };
+      const DeferredReply later = [this, send](const ReplyContent& content) { Answer(content, send); };
       std::optional<ReplyContent> reply;
       if (client_id != identity) {
         // Before the handler: an impostor must not touch the lease, nor the ids and rate of the client it names.
@@ -169,12 +172,46 @@ void DdsService::SendReply(const std::string& client_id, uint64_t request_id, in
   }
 }
 
+void DdsService::Answer(const ReplyContent& content, const DeferredReply& send) {
+  if (content.ticket == 0) return send(content);
+  std::lock_guard<std::mutex> lock(waiting_mutex_);
+  waiting_.push_back({content, send, MonotonicSeconds() + kApplyTimeout});
+}
+
+void DdsService::AnswerApplied(uint64_t applied) {
+  std::vector<WaitingReply> due;
+  {
+    std::lock_guard<std::mutex> lock(waiting_mutex_);
+    if (waiting_.empty()) return;
+    const double now = MonotonicSeconds();
+    const auto waits = std::stable_partition(waiting_.begin(), waiting_.end(), [&](const WaitingReply& w) {
+      return w.content.ticket > applied && now < w.give_up;
+    });
+    due.assign(std::make_move_iterator(waits), std::make_move_iterator(waiting_.end()));
+    waiting_.erase(waits, waiting_.end());
+  }
+  // Sent without the lock: the request thread must never wait for a DDS write here.
+  for (WaitingReply& w : due) {
+    if (w.content.ticket > applied) {
+      char text[128];
+      std::snprintf(text, sizeof text, "the control loop has not applied the request in %.1f s; it may yet: "
+                    "call status before retrying", kApplyTimeout);
+      w.content.status = ReplyStatus::kInternal;
+      w.content.message = text;
+    }
+    w.send(w.content);
+  }
+}
+
 void DdsService::PublishState() {
   ControllerStatus s;
   uint64_t last_tick = controller_.status().tick;
   std::string holder;
   while (running_) {
-    if (!controller_.WaitForTickAfter(last_tick, std::chrono::milliseconds(100), s)) continue;
+    if (!controller_.WaitForTickAfter(last_tick, std::chrono::milliseconds(100), s)) {
+      AnswerApplied(s.applied);  // nothing newer applied: those waiting too long time out
+      continue;
+    }
     last_tick = s.tick;
     {
       std::lock_guard<std::mutex> lock(holder_mutex_);
@@ -222,6 +259,7 @@ void DdsService::PublishState() {
     } catch (const dds::Error& e) {
       spdlog::warn("state sample not sent: {}", e.what());
     }
+    AnswerApplied(s.applied);  // after the sample of the tick that applied them
   }
 }
 

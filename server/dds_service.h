@@ -2,9 +2,12 @@
 // skilld's DDS face. Requests are handled on Cyclone's receive thread as they arrive (a data
 // listener: no thread hand-off, so a damp reaches the controller within microseconds); a poll
 // thread lets silent leases lapse; a telemetry thread publishes one state sample per control
-// tick. None touches the robot; all go through the Controller. With DDS Security on, a request
-// is executed only if its client_id is its writer's authenticated identity (comm/security.h), so
-// the lease, request ids and rate limits all belong to identities; motion calls are audited.
+// tick, then sends the replies that waited for that tick: an OK reply to a call the controller
+// applies goes out once it has, so that the next request, from any client, sees its effect,
+// while the receive thread never waits for a tick. None touches the robot; all go through the
+// Controller. With DDS Security on, a request is executed only if its client_id is its writer's
+// authenticated identity (comm/security.h), so the lease, request ids and rate limits all belong
+// to identities; motion calls are audited.
 
 #include <atomic>
 #include <condition_variable>
@@ -40,6 +43,11 @@ class DdsService {
   const std::string& IdentityOf(dds_instance_handle_t publication);
   void PollLeases();
   void PublishState();
+  // Sends `content` now, or once status().applied reaches its ticket (ReplyContent::ticket).
+  void Answer(const ReplyContent& content, const DeferredReply& send);
+  // Sends the waiting replies whose requests the controller has applied, up to ticket `applied`,
+  // and, as an error, those that have waited past kApplyTimeout.
+  void AnswerApplied(uint64_t applied);
   // Thread-safe: the navigator answers navigate requests whose maps it has read.
   void SendReply(const std::string& client_id, uint64_t request_id, int64_t deadline_ns, const ReplyContent& content);
 
@@ -63,6 +71,16 @@ class DdsService {
   std::condition_variable poll_wake_;
   std::thread poll_thread_, state_thread_;
   std::atomic<uint64_t> replies_sent_{0};
+  // Replies waiting for the controller to apply their requests; far longer than a tick means the
+  // control loop has stalled.
+  struct WaitingReply {
+    ReplyContent content;
+    DeferredReply send;
+    double give_up;  // monotonic s
+  };
+  static constexpr double kApplyTimeout = 1.0;  // s
+  std::mutex waiting_mutex_;
+  std::vector<WaitingReply> waiting_;
   std::atomic<uint64_t> dropped_{0};
   std::mutex holder_mutex_;
   std::string holder_;  // the lease holder, for telemetry

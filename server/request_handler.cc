@@ -17,6 +17,13 @@ ReplyContent Reply(ReplyStatus status, std::string message) {
   return r;
 }
 
+// An OK reply to a call that the next control tick applies: sent once it has (ReplyContent::ticket).
+ReplyContent Applied(uint64_t ticket, std::string message) {
+  ReplyContent r = Reply(ReplyStatus::kOk, std::move(message));
+  r.ticket = ticket;
+  return r;
+}
+
 bool AllFinite(const double* values, int n) {
   return std::all_of(values, values + n, [](double v) { return std::isfinite(v); });
 }
@@ -86,8 +93,8 @@ void RequestHandler::Poll(double now) {
   }
 }
 
-void RequestHandler::StopTaskOf(const std::string& client_id, TaskState state, const std::string& reason,
-                                uint64_t before) {
+uint64_t RequestHandler::StopTaskOf(const std::string& client_id, TaskState state, const std::string& reason,
+                                    uint64_t before) {
   if (navigator_ != nullptr) navigator_->Cancel();
   ControlRequest stop;
   stop.kind = ControlRequest::Kind::kStop;
@@ -97,7 +104,7 @@ void RequestHandler::StopTaskOf(const std::string& client_id, TaskState state, c
   stop.request_id = before;
   SetText(stop.client_id, client_id.c_str());
   SetText(stop.reason, reason.c_str());
-  controller_.SubmitUrgent(stop);
+  return controller_.SubmitUrgent(stop);
 }
 
 std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& request, double now, int64_t wall_ns,
@@ -172,8 +179,8 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     if (!lease_.Release(client_id)) {
       return Reply(ReplyStatus::kNotInControl, "this client does not hold control");
     }
-    StopTaskOf(client_id, TaskState::kCancelled, "control released", request.header.request_id);
-    return Reply(ReplyStatus::kOk, "control released; the robot stands");
+    return Applied(StopTaskOf(client_id, TaskState::kCancelled, "control released", request.header.request_id),
+                   "control released; the robot stands");
   }
   if (call == Call::kDamp) {  // the emergency stop: anyone may press it
     ControlRequest damp;
@@ -181,9 +188,9 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     SetText(damp.reason, ("emergency stop from " + client_id).c_str());
     SetText(damp.client_id, client_id.c_str());
     damp.request_id = request.header.request_id;
-    controller_.SubmitUrgent(damp);
-    return Reply(ReplyStatus::kOk, "damping; latched until clear_stop (from this client, or from any after " +
-                                          Seconds(config_.safety.stop_hold_time) + "), then stand");
+    const uint64_t ticket = controller_.SubmitUrgent(damp);
+    return Applied(ticket, "damping; latched until clear_stop (from this client, or from any after " +
+                               Seconds(config_.safety.stop_hold_time) + "), then stand");
   }
   if (call == Call::kClearStop) return ClearStop(client_id);
   FLSD_DEMAND(Spec(call).needs_control);  // every other call moves the robot
@@ -221,11 +228,10 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
     control.kind = ControlRequest::Kind::kSkill;
     control.skill = k;
     control.duration = request.duration;
-    if (!Submit(control, client_id, request.header.request_id)) {
-      return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
-    }
-    return Reply(ReplyStatus::kOk, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
-                                          " accepted; progress is on the state topic");
+    const uint64_t ticket = Submit(control, client_id, request.header.request_id);
+    if (ticket == 0) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
+    return Applied(ticket, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
+                               " accepted; progress is on the state topic");
   }
   if (call == Call::kTrackVelocity || call == Call::kNavigate) return Velocity(request, call, client_id, later);
   if (call == Call::kReset && !controller_.backend_can_reset()) {
@@ -242,12 +248,11 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
                  : call == Call::kStop ? ControlRequest::Kind::kStop
                                             : ControlRequest::Kind::kReset;
   SetText(control.reason, ("stopped by " + client_id).c_str());
-  if (!Submit(control, client_id, request.header.request_id)) {
-    return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
-  }
-  return Reply(ReplyStatus::kOk, call == Call::kStand  ? "standing"
-                                    : call == Call::kStop ? "stopping; the robot stands"
-                                                               : "reset");
+  const uint64_t ticket = Submit(control, client_id, request.header.request_id);
+  if (ticket == 0) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
+  return Applied(ticket, call == Call::kStand  ? "standing"
+                         : call == Call::kStop ? "stopping; the robot stands"
+                                               : "reset");
 }
 
 std::string RequestHandler::MotionBlocked(const ControllerStatus& status) const {
@@ -294,8 +299,9 @@ ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
   clear.kind = ControlRequest::Kind::kClearStop;
   clear.pressed_at = status.stop_time;
   SetText(clear.client_id, client_id.c_str());
-  if (!controller_.Submit(clear)) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
-  return Reply(ReplyStatus::kOk, "emergency stop cleared; the robot stays damped until stand");
+  const uint64_t ticket = controller_.Submit(clear);
+  if (ticket == 0) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
+  return Applied(ticket, "emergency stop cleared; the robot stays damped until stand");
 }
 
 std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, Call call,
@@ -388,19 +394,20 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
     SetText(control.client_id, client_id.c_str());
     control.request_id = request.header.request_id;
     navigator_->Start(MapRequest{std::move(*job), std::move(map_yaml), control, accepted,
-                                 [later](ReplyStatus status, const std::string& message) {
-                                   later(Reply(status, message));
+                                 [later](ReplyStatus status, const std::string& message, uint64_t ticket) {
+                                   ReplyContent r = Reply(status, message);
+                                   r.ticket = ticket;
+                                   later(r);
                                  }});
     return std::nullopt;
   }
-  if (!Submit(control, client_id, request.header.request_id)) {
-    return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
-  }
+  const uint64_t ticket = Submit(control, client_id, request.header.request_id);
+  if (ticket == 0) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
   if (job) navigator_->Start(std::move(*job));
-  return Reply(ReplyStatus::kOk, accepted);
+  return Applied(ticket, accepted);
 }
 
-bool RequestHandler::Submit(ControlRequest request, const std::string& client_id, uint64_t request_id) {
+uint64_t RequestHandler::Submit(ControlRequest request, const std::string& client_id, uint64_t request_id) {
   // A navigation accepted before this request must not start after it.
   if (navigator_ != nullptr) navigator_->Cancel();
   SetText(request.client_id, client_id.c_str());

@@ -1,8 +1,9 @@
 #pragma once
 // Turns one DDS request into a reply and, when it asks for motion, into a ControlRequest for the
-// controller. Owns the control lease, per-client request ids and rate limits. Runs on the request
-// thread; time is passed in, so tests need no sleeps. Every request gets a reply with a reason,
-// except those dropped by the rate limit, which are counted.
+// controller; the OK reply to that waits for the tick that applies it (ReplyContent::ticket). Owns
+// the control lease, per-client request ids and rate limits. Runs on the request thread; time is
+// passed in, so tests need no sleeps. Every request gets a reply with a reason, except those
+// dropped by the rate limit, which are counted.
 
 #include <array>
 #include <cstdint>
@@ -24,6 +25,9 @@ struct ReplyContent {
   std::string message;
   bool with_skills = false;   // list_skills: attach the library's skill descriptors
   std::string safety_report;  // safety trips this client has not been told of
+  // Nonzero: the ticket of the request this call submitted (Controller::Submit). The reply is sent
+  // only once the controller's status has reached it, so that the next request sees its effect.
+  uint64_t ticket = 0;
 };
 
 using DeferredReply = std::function<void(const ReplyContent&)>;
@@ -74,15 +78,17 @@ class RequestHandler {
                                        const DeferredReply& later);
   // A stop of `client_id`'s task, never lost to a full queue, and of a navigation still reading its map.
   // `before` (nonzero): only a task that request preceded; the client may start the next at once.
-  void StopTaskOf(const std::string& client_id, TaskState state, const std::string& reason,
-                  uint64_t before = 0);
+  // Returns the stop's ticket.
+  uint64_t StopTaskOf(const std::string& client_id, TaskState state, const std::string& reason,
+                      uint64_t before = 0);
   // Why the robot cannot start moving now (a latched stop, a hazard), or empty.
   std::string MotionBlocked(const ControllerStatus& status) const;
   // Who may clear the latched emergency stop, and how; what forbids stiffening the joints and its remedy.
   std::string EmergencyStopText(const ControllerStatus& status) const;
   std::string HazardText(const ControllerStatus& status) const;
   ReplyContent ClearStop(const std::string& client_id);
-  bool Submit(ControlRequest request, const std::string& client_id, uint64_t request_id);
+  // The request's ticket, or 0 if the queue is full.
+  uint64_t Submit(ControlRequest request, const std::string& client_id, uint64_t request_id);
   std::string StatusText(const ControllerStatus& status) const;
 
   Controller& controller_;

@@ -5,15 +5,15 @@
 
 namespace flsd {
 
-bool RequestQueue::Submit(const ControlRequest& request) {
+uint64_t RequestQueue::Submit(const ControlRequest& request) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (count_ == kSize) return false;
+  if (count_ == kSize) return 0;
   queue_[(head_ + count_) % kSize] = request;
   ++count_;
-  return true;
+  return ++last_ticket_;
 }
 
-void RequestQueue::SubmitUrgent(const ControlRequest& request) {
+uint64_t RequestQueue::SubmitUrgent(const ControlRequest& request) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (request.kind == ControlRequest::Kind::kDamp) {
     urgent_damp_ = request;
@@ -25,24 +25,19 @@ void RequestQueue::SubmitUrgent(const ControlRequest& request) {
     last = request;
     last.scope = ControlRequest::Scope::kAny;
   }
+  return ++last_ticket_;
 }
 
-bool RequestQueue::TakeQueued(ControlRequest& request) {
+RequestQueue::Taken RequestQueue::Take() {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (count_ == 0) return false;
-  request = queue_[head_];
-  head_ = (head_ + 1) % kSize;
-  --count_;
-  return true;
-}
-
-int RequestQueue::TakeUrgent(bool& have_damp) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  have_damp = std::exchange(have_urgent_damp_, false);
+  Taken taken;
+  for (; count_ > 0; --count_, head_ = (head_ + 1) % kSize) taken_queue_[taken.queued++] = queue_[head_];
+  taken.stops = std::exchange(urgent_stop_count_, 0);
+  std::copy_n(urgent_stops_.begin(), taken.stops, taken_stops_.begin());
+  taken.damp = std::exchange(have_urgent_damp_, false);
   taken_damp_ = urgent_damp_;
-  const int stops = std::exchange(urgent_stop_count_, 0);
-  std::copy_n(urgent_stops_.begin(), stops, taken_stops_.begin());
-  return stops;
+  taken.newest = last_ticket_;
+  return taken;
 }
 
 }  // namespace flsd

@@ -2,9 +2,11 @@
 // The requests waiting for the next control tick: a bounded queue, and beside it the urgent ones
 // that must never wait behind a full queue or be refused (the emergency stop, and stops: a lapsed
 // or released lease, the end of a navigation). Any thread submits; the control thread takes them
-// all once per tick. Nothing here allocates.
+// all once per tick. Each request gets a ticket, counting up, so that the request side can tell
+// when a tick has applied it. Nothing here allocates.
 
 #include <array>
+#include <cstdint>
 #include <mutex>
 
 #include "server/control_request.h"
@@ -16,21 +18,28 @@ class RequestQueue {
   static constexpr int kSize = 16;
   static constexpr int kUrgentStops = 8;
 
-  // Returns false if the queue is full (a flood).
-  bool Submit(const ControlRequest& request);
-  // The newest damp is kept; stops beyond kUrgentStops merge into one stop of whatever runs.
-  void SubmitUrgent(const ControlRequest& request);
+  // Returns the request's ticket, or 0 if the queue is full (a flood).
+  uint64_t Submit(const ControlRequest& request);
+  // Returns the request's ticket. The newest damp is kept; stops beyond kUrgentStops merge into one
+  // stop of whatever runs.
+  uint64_t SubmitUrgent(const ControlRequest& request);
 
   // Calls apply(request) for every request waiting, in the order they apply: the queue first, then
   // the urgent stops in the order they came, then the newest damp, so that the urgent ones override
-  // whatever came with them. No lock is held while `apply` runs.
+  // whatever came with them. No lock is held while `apply` runs. Returns the newest ticket taken:
+  // every request with a ticket up to it has now been applied.
   template <class Apply>
-  void TakeAll(Apply&& apply);
+  uint64_t TakeAll(Apply&& apply);
 
  private:
-  bool TakeQueued(ControlRequest& request);
-  // Moves the urgent requests to the taker's copies; returns how many stops there are.
-  int TakeUrgent(bool& have_damp);
+  struct Taken {
+    int queued = 0, stops = 0;
+    bool damp = false;
+    uint64_t newest = 0;
+  };
+  // Moves every waiting request to the taker's copies under one lock, so that none with a ticket
+  // up to `newest` stays behind.
+  Taken Take();
 
   std::mutex mutex_;
   std::array<ControlRequest, kSize> queue_{};
@@ -39,19 +48,20 @@ class RequestQueue {
   bool have_urgent_damp_ = false;
   std::array<ControlRequest, kUrgentStops> urgent_stops_{};
   int urgent_stop_count_ = 0;
+  uint64_t last_ticket_ = 0;
   // The control thread's copies of what it took.
+  std::array<ControlRequest, kSize> taken_queue_{};
   ControlRequest taken_damp_;
   std::array<ControlRequest, kUrgentStops> taken_stops_{};
 };
 
 template <class Apply>
-void RequestQueue::TakeAll(Apply&& apply) {
-  ControlRequest request;
-  while (TakeQueued(request)) apply(request);
-  bool have_damp = false;
-  const int stops = TakeUrgent(have_damp);
-  for (int i = 0; i < stops; ++i) apply(taken_stops_[i]);
-  if (have_damp) apply(taken_damp_);
+uint64_t RequestQueue::TakeAll(Apply&& apply) {
+  const Taken taken = Take();
+  for (int i = 0; i < taken.queued; ++i) apply(taken_queue_[i]);
+  for (int i = 0; i < taken.stops; ++i) apply(taken_stops_[i]);
+  if (taken.damp) apply(taken_damp_);
+  return taken.newest;
 }
 
 }  // namespace flsd

@@ -73,7 +73,7 @@ void Navigator::Start(MapRequest request) {
     ++generation_;
   }
   if (dropped && dropped->reply) {
-    dropped->reply(ReplyStatus::kNotAvailable, "superseded by a later navigate before its map was read");
+    dropped->reply(ReplyStatus::kNotAvailable, "superseded by a later navigate before its map was read", 0);
   }
   wake_.notify_all();
 }
@@ -86,7 +86,7 @@ void Navigator::Cancel() {
     ++generation_;
   }
   if (dropped && dropped->reply) {
-    dropped->reply(ReplyStatus::kNotAvailable, "superseded by a later request before its map was read");
+    dropped->reply(ReplyStatus::kNotAvailable, "superseded by a later request before its map was read", 0);
   }
 }
 
@@ -124,25 +124,26 @@ bool Navigator::Accept(MapRequest& request, uint64_t generation) {
   try {
     request.job.map = Map2D::Parse(request.map_yaml, "the request's map");
   } catch (const InputError& e) {
-    request.reply(ReplyStatus::kInvalidArgument, e.what());
+    request.reply(ReplyStatus::kInvalidArgument, e.what(), 0);
     return false;
   }
-  bool submitted = false, superseded = false;
+  uint64_t ticket = 0;
+  bool superseded = false;
   {
     // Held while submitting: a Cancel() either comes first and is seen here, or comes after and
     // is followed by its own request, which then overrides this task in the controller.
     std::lock_guard<std::mutex> lock(mutex_);
     superseded = quit_ || generation_ != generation;
-    if (!superseded) submitted = controller_.Submit(request.task);
+    if (!superseded) ticket = controller_.Submit(request.task);
   }
   if (superseded) {
-    request.reply(ReplyStatus::kNotAvailable, "superseded by a later request while its map was read");
-  } else if (!submitted) {
-    request.reply(ReplyStatus::kInternal, "the control queue is full; retry");
+    request.reply(ReplyStatus::kNotAvailable, "superseded by a later request while its map was read", 0);
+  } else if (ticket == 0) {
+    request.reply(ReplyStatus::kInternal, "the control queue is full; retry", 0);
   } else {
-    request.reply(ReplyStatus::kOk, request.accepted);
+    request.reply(ReplyStatus::kOk, request.accepted, ticket);
   }
-  return submitted;
+  return ticket != 0;
 }
 
 bool Navigator::Plan(const NavigationJob& job, const Eigen::Vector2d& from, double yaw, PlannedPath& path) {

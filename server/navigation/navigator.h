@@ -38,7 +38,8 @@ struct MapRequest {
   std::string map_yaml;
   ControlRequest task;   // the controller's task for the job
   std::string accepted;  // the reply's message once it is under way
-  std::function<void(ReplyStatus, const std::string&)> reply;
+  // `ticket`: the submitted task's (Controller::Submit), for an OK reply to wait for; 0 otherwise.
+  std::function<void(ReplyStatus, const std::string&, uint64_t ticket)> reply;
 };
 
 class Navigator {

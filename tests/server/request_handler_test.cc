@@ -115,6 +115,29 @@ TEST_F(RequestHandlerTest, AnyClientMayDamp) {
   EXPECT_THAT(skill.message, HasSubstr("an emergency stop from b is latched; call clear_stop"));
 }
 
+// A reply to a call that the control tick applies carries the request's ticket; DdsService sends
+// it once the published status has reached it, so that the next request sees the call's effect.
+// The lease changes at once.
+TEST_F(RequestHandlerTest, AnOkReplyNamesTheTicketOfTheRequestItWaitsFor) {
+  EXPECT_EQ(Send("a", "acquire_control").ticket, 0u);
+  const auto applied_by_the_next_tick = [&](const ReplyContent& reply) {
+    EXPECT_EQ(reply.status, ReplyStatus::kOk) << reply.message;
+    EXPECT_GT(reply.ticket, controller_.status().applied);
+    controller_.Tick();
+    return controller_.status().applied >= reply.ticket;
+  };
+  EXPECT_TRUE(applied_by_the_next_tick(Send("a", "damp")));
+  EXPECT_EQ(Send("a", "stand").status, ReplyStatus::kSafetyStop);
+  EXPECT_TRUE(applied_by_the_next_tick(Send("a", "clear_stop")));
+  EXPECT_TRUE(applied_by_the_next_tick(Send("a", "stand")));
+  EXPECT_EQ(controller_.status().mode, Mode::kStand);
+  EXPECT_TRUE(applied_by_the_next_tick(Skill("a", 0, 1.0)));
+  EXPECT_EQ(controller_.status().task.state, TaskState::kRunning);
+  EXPECT_TRUE(applied_by_the_next_tick(Send("a", "stop")));
+  EXPECT_EQ(controller_.status().task.state, TaskState::kCancelled);
+  EXPECT_TRUE(applied_by_the_next_tick(Send("a", "release_control")));
+}
+
 TEST_F(RequestHandlerTest, DampGetsThroughAQueueFloodedByTheController) {
   ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
   for (int i = 0; i < 40; ++i) Send("a", "stand", 0.001 * i);  // more than the queue holds

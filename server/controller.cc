@@ -19,15 +19,6 @@ constexpr bool RowsInEnumOrder() {
 }
 static_assert(RowsInEnumOrder(), "kControlStates: one row per state, in the order of the enum");
 
-ControlState StateOf(Mode task_mode) {
-  switch (task_mode) {
-    case Mode::kSkill: return ControlState::kSkill;
-    case Mode::kVelocity: return ControlState::kVelocity;
-    case Mode::kNavigate: return ControlState::kNavigate;
-    default: return ControlState::kIdle;
-  }
-}
-
 // The selector `selector` names (ServedSelectorKind), or none.
 std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, const char* key,
                                                 const std::string& selector, SelectorKind analytic) {

@@ -66,10 +66,9 @@ void ValidateVelocityTrainConfig(const VelocityTrainConfig& config, const std::s
     if (method == VelocityMethod::kSelector && config.library.empty()) {
       throw InputError("library: the selector needs a skill library to choose from (models/*.safetensors)");
     }
-    if (method == VelocityMethod::kScratch &&
-        (config.nearest_prior() || config.time_sharing_prior > 0.0 || config.semi_mdp.enabled())) {
-      throw InputError("nearest_prior_temperature, time_sharing_prior and semi_mdp.window_s: a prior over skills and a "
-                       "selector's memory need method 'selector'; expected 0");
+    if (method == VelocityMethod::kScratch && (config.nearest_prior() || config.time_sharing_prior > 0.0)) {
+      throw InputError("nearest_prior_temperature and time_sharing_prior: a prior over skills needs method 'selector'; "
+                       "expected 0");
     }
     if (config.nearest_prior() && config.time_sharing_prior > 0.0) {
       throw InputError("time_sharing_prior: a selector has one prior, but nearest_prior_temperature is set too");
@@ -132,12 +131,15 @@ VelocityTrackingTask::VelocityTrackingTask(const VelocityTrainConfig& config, co
       skill_runners_.emplace_back(*library_);
       priors_.emplace_back(*library_, shape_.nearest_prior_temperature, shape_.time_sharing_prior);
     }
-    memories_.assign(n, SelectorMemory(std::max(1, shape_.memory_window_steps)));
     if (config.mirror) {
       mirror_prior_.emplace(*library_, shape_.nearest_prior_temperature, 0.0);
       rollout_commands_ = torch::zeros({t, n, 3}, torch::kFloat64);
       rollout_running_ = torch::zeros({t, n}, torch::kLong);
     }
+  }
+  // A selector's running skill; a semi-MDP reward's window (the scratch policy's too).
+  if (library_ || config.semi_mdp.enabled()) {
+    memories_.assign(n, SelectorMemory(std::max(1, shape_.memory_window_steps)));
   }
   previous_action_.assign(n * kActionSize, 0.0f);
   joint_actions_.assign(n * kActionSize, 0.0f);
@@ -224,11 +226,12 @@ void VelocityTrackingTask::Step(int t, const torch::Tensor& action, Rollout& rol
   }
   for (int k = 0; k < config_.decision_interval; ++k) {
     JointActions(action);
-    if (library_) {
+    if (!memories_.empty()) {
       const float* motion = env_.vec_env().motion_obs();
       const float* choice = action.data_ptr<float>();
       for (int i = 0; i < num_envs_; ++i) {
-        memories_[i].Record(env_.command(i).data(), static_cast<int>(choice[i]), motion + i * kMotionObsSize);
+        const int skill = library_ ? static_cast<int>(choice[i]) : -1;
+        memories_[i].Record(env_.command(i).data(), skill, motion + i * kMotionObsSize);
       }
     }
     env_.Step(joint_actions_.data());
@@ -271,10 +274,8 @@ void VelocityTrackingTask::Step(int t, const torch::Tensor& action, Rollout& rol
         episode_return_[i] = 0.0;
         episode_length_[i] = 0;
         last_choice_[i] = -1;
-        if (library_) {
-          memories_[i].Reset();
-          priors_[i].Reset();
-        }
+        if (!memories_.empty()) memories_[i].Reset();
+        if (library_) priors_[i].Reset();
         std::fill(previous, previous + kActionSize, 0.0f);
       } else {
         std::copy(&joint_actions_[i * kActionSize], &joint_actions_[(i + 1) * kActionSize], previous);

@@ -59,6 +59,7 @@ struct VelocityTrainConfig {
   // hand-made one serves and learns what to do better.
   double time_sharing_prior = 0.0;
   // A semi-MDP selector (selector_reward.h), with decision_interval its hold: on with a window.
+  // The scratch policy can be paid the same reward (Fig. 8 on one task); it sees no memory.
   SelectorRewardConfig semi_mdp;
   // Discount per second of simulated time (0: ppo.gamma per decision, as given): PPO's gamma is
   // this to the power of one decision's seconds, so that the horizon does not change with the hold.

@@ -326,6 +326,17 @@ TEST_F(VelocityTraining, ASemiMdpSelectorIsServedWithItsMemoryPriorAndHold) {
               HasSubstr("the time-sharing prior and the semi-MDP memory are not mirrored"));
 }
 
+// Fig. 8's Scratch on the semi-MDP selector's task: the same reward, every control step, no prior.
+TEST_F(VelocityTraining, TheScratchPolicyTrainsOnTheSemiMdpReward) {
+  config_.method = "scratch";
+  config_.semi_mdp.window_s = 0.2;
+  config_.time_sharing_prior = 3.0;
+  EXPECT_THAT(InputErrorMessage([&] { ValidateVelocityTrainConfig(config_, "c"); }),
+              HasSubstr("a prior over skills needs method 'selector'"));
+  config_.time_sharing_prior = 0.0;
+  ASSERT_EQ(Train("semi_mdp_scratch", 1), 0);
+}
+
 // The evaluation over training: each kept checkpoint and the latest, exported and tracked on
 // the fixed evaluation set, in order of the env steps they had trained on.
 TEST_F(VelocityTraining, TheSelectorCurveTracksEachKeptCheckpoint) {

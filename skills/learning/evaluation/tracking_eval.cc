@@ -39,26 +39,53 @@ TrackingError TrackingErrorOf(const std::array<double, 3>& achieved, const std::
   return {std::hypot(achieved[0] - command[0], achieved[1] - command[1]), std::abs(achieved[2] - command[2])};
 }
 
+namespace {
+
+// The library's skills under one of its selectors.
+class SelectorController final : public TrackingController {
+ public:
+  SelectorController(const SkillLibrary& library, SelectorKind kind) : policy_(library, kind) {}
+  void Reset() override { policy_.Reset(); }
+  std::array<double, 3> Clip(const double* command) const override { return policy_.Clip(command); }
+  int Act(const float* motion_obs, const double* command, const float* previous_action, float* action) override {
+    return policy_.Act(motion_obs, command, previous_action, action);
+  }
+
+ private:
+  HierarchicalPolicy policy_;
+};
+
+}  // namespace
+
 TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env_config,
                                     const std::vector<TrackingCase>& cases, double seconds, double settle_seconds,
                                     uint64_t seed, SelectorKind selector) {
+  SelectorController controller(library, selector);
+  TrackingEvaluation out = EvaluateController(controller, ServedEnvConfig(library, env_config, 0), cases, seconds,
+                                              settle_seconds, seed);
+  out.selector = selector;
+  return out;
+}
+
+TrackingEvaluation EvaluateController(TrackingController& controller, const EnvConfig& served,
+                                      const std::vector<TrackingCase>& cases, double seconds, double settle_seconds,
+                                      uint64_t seed) {
   const int steps = static_cast<int>(std::lround(seconds / a1::kControlDt));
   const int settle = static_cast<int>(std::lround(settle_seconds / a1::kControlDt));
-  const EnvConfig config = ServedEnvConfig(library, env_config, steps + 1);
+  EnvConfig config = served;
+  config.episode_steps = steps + 1;
   const MjModelPtr model = LoadMjModel(config.model);
-  HierarchicalPolicy policy(library, selector);
 
   TrackingEvaluation out;
-  out.selector = selector;
   out.seconds = seconds;
   out.settle_seconds = settle_seconds;
   double lin2 = 0.0, ang2 = 0.0;
   for (const TrackingCase& c : cases) {
     Env env(*model, config, seed);
     env.Reset();
-    policy.Reset();
+    controller.Reset();
     TrackingResult r;
-    r.tracked = {c.name, policy.Clip(c.command.data())};
+    r.tracked = {c.name, controller.Clip(c.command.data())};
     std::array<float, kMotionObsSize> motion{};
     std::array<float, kActionSize> previous{}, action{};
     std::set<int> used;
@@ -66,7 +93,7 @@ TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (int t = 0; t < steps; ++t) {
       BuildMotionObservation(env.state(), motion.data());
-      const int skill = policy.Act(motion.data(), r.tracked.command.data(), previous.data(), action.data());
+      const int skill = controller.Act(motion.data(), r.tracked.command.data(), previous.data(), action.data());
       used.insert(skill);
       switches += last_skill >= 0 && skill != last_skill;
       last_skill = skill;
@@ -129,13 +156,18 @@ EnvConfig TrainingEnvOf(const SkillLibrary& library) {
   return env;
 }
 
-EnvConfig ServedEnvConfig(const SkillLibrary& library, const EnvConfig& env, int steps) {
+EnvConfig ServedEnvConfig(const EnvConfig& env, int steps) {
   EnvConfig config = env;
   config.randomization.DisableAll();
   config.reset.standing_fraction = 1.0;  // skilld starts a skill or a velocity from a stand
+  config.episode_steps = steps;
+  return config;
+}
+
+EnvConfig ServedEnvConfig(const SkillLibrary& library, const EnvConfig& env, int steps) {
+  EnvConfig config = ServedEnvConfig(env, steps);
   config.action_filter_hz = library.action_filter_hz();
   config.action_filter_order = library.action_filter_order();
-  config.episode_steps = steps;
   return config;
 }
 

@@ -57,6 +57,24 @@ struct TrackingEvaluation {
   double switches_per_s = 0.0;  // the cases' mean
 };
 
+// What runs the robot through a tracking case: a library's skills under a selector, or a
+// joint-level policy (the velocity task's Scratch).
+class TrackingController {
+ public:
+  virtual ~TrackingController() = default;
+  // A new case, from a stand.
+  virtual void Reset() = 0;
+  // The command as the controller follows it (errors are against the command as asked).
+  virtual std::array<double, 3> Clip(const double* command) const = 0;
+  // Writes the 12 joint actions; returns the skill that acted (-1: none).
+  virtual int Act(const float* motion_obs, const double* command, const float* previous_action, float* action) = 0;
+};
+
+// Each case with `controller` on `served` (as ServedEnvConfig makes it; episode_steps is set here).
+TrackingEvaluation EvaluateController(TrackingController& controller, const EnvConfig& served,
+                                      const std::vector<TrackingCase>& cases, double seconds, double settle_seconds,
+                                      uint64_t seed);
+
 // Each case from a stand for `seconds`, the achieved velocity averaged after `settle_seconds`.
 // Throws InputError if `selector` is kLearned and the library has none.
 TrackingEvaluation EvaluateTracking(const SkillLibrary& library, const EnvConfig& env,
@@ -70,6 +88,8 @@ EnvConfig TrainingEnvOf(const SkillLibrary& library);
 // `env` as skilld's simulated A1 runs the library: no randomisation, every start from a stand,
 // the library's target filter, and episodes of `steps` control steps.
 EnvConfig ServedEnvConfig(const SkillLibrary& library, const EnvConfig& env, int steps);
+// The same without a library: the target filter `env` has (a joint-level policy's).
+EnvConfig ServedEnvConfig(const EnvConfig& env, int steps);
 
 // `flsd track`: `cases` with the library's learned selector (where it has one) and with the
 // nearest-skill and time-sharing selectors, side by side.

@@ -1,7 +1,10 @@
 #include "skills/learning/export/export.h"
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -191,29 +194,85 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
           {"tracking", TrackingJson(tracking)}};
 }
 
+namespace {
+
+// A scratch run's joint-level policy, its mean action on [o^c, previous action].
+class ScratchController final : public TrackingController {
+ public:
+  explicit ScratchController(TrainedScratch trained) : trained_(std::move(trained)) {}
+  void Reset() override {}
+  std::array<double, 3> Clip(const double* command) const override { return {command[0], command[1], command[2]}; }
+  int Act(const float* motion_obs, const double* command, const float* previous_action, float* action) override {
+    BuildTaskObservation(motion_obs, command, obs_.data());
+    std::copy(previous_action, previous_action + kActionSize, obs_.begin() + kTaskObsSize);
+    torch::NoGradGuard no_grad;
+    const torch::Tensor mean =
+        trained_.policy->ActionMean(trained_.normalizer->Normalize(torch::from_blob(obs_.data(), {1, kObs}))).contiguous();
+    std::copy(mean.data_ptr<float>(), mean.data_ptr<float>() + kActionSize, action);
+    return -1;
+  }
+
+ private:
+  static constexpr int kObs = kTaskObsSize + kActionSize;
+  TrainedScratch trained_;
+  std::array<float, kObs> obs_{};
+};
+
+struct CurvePoint {
+  int iteration = 0;
+  long env_steps = 0;
+  TrackingEvaluation tracking;
+};
+
+// A selector run's checkpoint, exported to `library` and tracked through it.
+CurvePoint SelectorPoint(const std::string& run_dir, int iteration, const std::string& library,
+                         const std::vector<TrackingCase>* cases) {
+  const nlohmann::json exported = ExportSelector(run_dir, library, iteration);
+  const SkillLibrary served = SkillLibrary::Load(library);
+  const std::vector<TrackingCase> own = cases ? std::vector<TrackingCase>() : EvaluationTrackingCases(served);
+  return {exported["iteration"], exported["env_steps"],
+          EvaluateTracking(served, TrainingEnvOf(served), cases ? *cases : own, 10.0, 2.0, kTrackingEnvSeed)};
+}
+
+// A scratch run's checkpoint, on the simulated A1 it trained on without randomisation.
+CurvePoint ScratchPoint(const VelocityTrainConfig& config, const std::string& run_dir, int iteration,
+                        const std::vector<TrackingCase>& cases) {
+  TrainedScratch trained = LoadTrainedScratch(config, RunCheckpoint(run_dir, iteration));
+  CurvePoint point{trained.iteration, trained.env_steps, {}};
+  ScratchController controller(std::move(trained));
+  point.tracking = EvaluateController(controller, ServedEnvConfig(config.env, 0), cases, 10.0, 2.0, kTrackingEnvSeed);
+  return point;
+}
+
+}  // namespace
+
 nlohmann::json SelectorCurve(const std::string& run_dir, const std::string& cases_library) {
   namespace fs = std::filesystem;
+  const VelocityTrainConfig config = LoadVelocityTrainConfig((fs::path(run_dir) / "config.yaml").string());
+  const bool scratch = ParseVelocityMethod(config.method) == VelocityMethod::kScratch;
+  if (scratch && cases_library.empty()) {
+    throw InputError(run_dir + ": a scratch run chooses from no library; name the evaluation set's with --cases-from");
+  }
+  std::optional<std::vector<TrackingCase>> cases;
+  if (!cases_library.empty()) cases = EvaluationTrackingCases(SkillLibrary::Load(cases_library));
   std::vector<int> iterations = KeptIterations(run_dir);
   iterations.push_back(0);  // the latest
   const std::string library = (fs::path(run_dir) / "selector_curve.safetensors.tmp").string();
   nlohmann::json rows = nlohmann::json::array();
-  std::string cases_from;
   for (int iteration : iterations) {
-    const nlohmann::json exported = ExportSelector(run_dir, library, iteration);
-    if (iteration == 0 && !rows.empty() && rows.back()["iteration"] == exported["iteration"]) continue;
-    const SkillLibrary served = SkillLibrary::Load(library);
-    cases_from = cases_library.empty() ? exported["base_library"].get<std::string>() : cases_library;
-    const std::vector<TrackingCase> cases = EvaluationTrackingCases(SkillLibrary::Load(cases_from));
-    const TrackingEvaluation t = EvaluateTracking(served, TrainingEnvOf(served), cases, 10.0, 2.0, kTrackingEnvSeed);
-    rows.push_back({{"iteration", exported["iteration"]},
-                    {"env_steps", exported["env_steps"]},
-                    {"rms_lin_error", t.rms_lin_error},
-                    {"rms_ang_error", t.rms_ang_error},
-                    {"falls", t.falls},
-                    {"switches_per_s", t.switches_per_s}});
+    const CurvePoint p = scratch ? ScratchPoint(config, run_dir, iteration, *cases)
+                                 : SelectorPoint(run_dir, iteration, library, cases ? &*cases : nullptr);
+    if (iteration == 0 && !rows.empty() && rows.back()["iteration"] == p.iteration) continue;
+    rows.push_back({{"iteration", p.iteration},
+                    {"env_steps", p.env_steps},
+                    {"rms_lin_error", p.tracking.rms_lin_error},
+                    {"rms_ang_error", p.tracking.rms_ang_error},
+                    {"falls", p.tracking.falls},
+                    {"switches_per_s", p.tracking.switches_per_s}});
   }
   fs::remove(library);
-  const nlohmann::json out = {{"run", run_dir}, {"cases_from", cases_from}, {"rows", rows}};
+  const nlohmann::json out = {
+      {"run", run_dir}, {"cases_from", cases_library.empty() ? config.library : cases_library}, {"rows", rows}};
   WriteFileAtomically((fs::path(run_dir) / "selector_curve.json").string(), out.dump(2) + "\n");
   return out;
 }

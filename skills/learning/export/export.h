@@ -39,9 +39,10 @@ nlohmann::json ExportRun(const std::string& run_dir, const std::string& path, in
 // tracking evaluation on the fixed evaluation set (tracking_eval.h) goes into its metadata.
 nlohmann::json ExportSelector(const std::string& run_dir, const std::string& path, int iteration = 0);
 
-// A selector run's evaluation over training (Fig. 8's second axis): each kept checkpoint and the
-// latest, exported and tracked on the fixed evaluation set of `cases_library` (empty: of the
-// library the run chose from; selectors over different libraries are compared on one set). Rows
+// A velocity run's evaluation over training (Fig. 8's second axis): each kept checkpoint and the
+// latest, a selector's exported, tracked on the fixed evaluation set of `cases_library` (empty: of
+// the library the run chose from; selectors over different libraries, and a scratch run, which
+// needs it named, are compared on one set). Rows
 // of iteration, env_steps, the RMS errors, falls and switches per second; also written to
 // run_dir/selector_curve.json.
 nlohmann::json SelectorCurve(const std::string& run_dir, const std::string& cases_library = "");

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "core/check.h"
 #include "robot/mirror.h"
@@ -373,20 +374,44 @@ void VelocityTrackingTask::Load(torch::serialize::InputArchive& archive, const s
   }
 }
 
-TrainedSelector LoadTrainedSelector(const VelocityTrainConfig& config, int num_skills, const std::string& checkpoint) {
+namespace {
+
+// Reads a velocity run's policy and normaliser (and then `more` of the archive) from `checkpoint`
+// into the shapes `config` makes, naming the checkpoint if it does not fit.
+void ReadVelocityPolicy(const std::string& checkpoint, torch::nn::Module& policy, torch::nn::Module& normalizer,
+                        int& iteration, long& env_steps,
+                        const std::function<void(torch::serialize::InputArchive&)>& more = {}) {
   torch::serialize::InputArchive archive = OpenCheckpoint(checkpoint);
-  TrainedSelector out;
-  const int obs = VelocityPolicyObsSize(config, num_skills);
-  out.policy = CategoricalActorCritic(obs, obs, num_skills, config.policy, config.value_streams(), /*prior_logits=*/true);
-  out.normalizer = RunningNormalizer(NormalizedVelocityObsSize(config));
   try {
-    ReadPolicyParts(archive, *out.policy, *out.normalizer, out.iteration, out.env_steps);
-    out.library_fingerprint = ReadString(archive, "library_fingerprint");
+    ReadPolicyParts(archive, policy, normalizer, iteration, env_steps);
+    if (more) more(archive);
   } catch (const c10::Error& e) {
     MismatchedCheckpoint(checkpoint, e);
   } catch (const InputError& e) {
     throw InputError(checkpoint + ": does not fit this velocity training config: " + e.what());
   }
+}
+
+}  // namespace
+
+TrainedSelector LoadTrainedSelector(const VelocityTrainConfig& config, int num_skills, const std::string& checkpoint) {
+  TrainedSelector out;
+  const int obs = VelocityPolicyObsSize(config, num_skills);
+  out.policy = CategoricalActorCritic(obs, obs, num_skills, config.policy, config.value_streams(), /*prior_logits=*/true);
+  out.normalizer = RunningNormalizer(NormalizedVelocityObsSize(config));
+  ReadVelocityPolicy(checkpoint, *out.policy, *out.normalizer, out.iteration, out.env_steps,
+                     [&](torch::serialize::InputArchive& archive) {
+                       out.library_fingerprint = ReadString(archive, "library_fingerprint");
+                     });
+  return out;
+}
+
+TrainedScratch LoadTrainedScratch(const VelocityTrainConfig& config, const std::string& checkpoint) {
+  TrainedScratch out;
+  const int obs = VelocityPolicyObsSize(config, 0);
+  out.policy = ActorCritic(obs, obs, kActionSize, config.policy, config.value_streams());
+  out.normalizer = RunningNormalizer(NormalizedVelocityObsSize(config));
+  ReadVelocityPolicy(checkpoint, *out.policy, *out.normalizer, out.iteration, out.env_steps);
   return out;
 }
 

@@ -140,6 +140,14 @@ struct TrainedSelector {
   std::string library_fingerprint;  // of the library it was trained over
 };
 TrainedSelector LoadTrainedSelector(const VelocityTrainConfig& config, int num_skills, const std::string& checkpoint);
+// The parts of a scratch run's checkpoint that run its policy: for evaluation.
+struct TrainedScratch {
+  ActorCritic policy{nullptr};
+  RunningNormalizer normalizer{nullptr};
+  int iteration = 0;
+  long env_steps = 0;
+};
+TrainedScratch LoadTrainedScratch(const VelocityTrainConfig& config, const std::string& checkpoint);
 
 // Per axis (vx, vy, wz), the range of the velocities of the library's surviving skills, with 0
 // in it, times `widen`: the commands a selector over them can follow.

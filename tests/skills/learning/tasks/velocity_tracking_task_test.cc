@@ -335,6 +335,13 @@ TEST_F(VelocityTraining, TheScratchPolicyTrainsOnTheSemiMdpReward) {
               HasSubstr("a prior over skills needs method 'selector'"));
   config_.time_sharing_prior = 0.0;
   ASSERT_EQ(Train("semi_mdp_scratch", 1), 0);
+  // Evaluated on a library's evaluation set, which it must be told.
+  EXPECT_THAT(InputErrorMessage([&] { SelectorCurve(Path("semi_mdp_scratch")); }), HasSubstr("--cases-from"));
+  const nlohmann::json curve = SelectorCurve(Path("semi_mdp_scratch"), library_);
+  ASSERT_EQ(curve["rows"].size(), 1u);
+  EXPECT_EQ(curve["rows"][0]["iteration"], 1);
+  EXPECT_GT(curve["rows"][0]["rms_lin_error"].get<double>(), 0.0);
+  EXPECT_EQ(curve["rows"][0]["switches_per_s"], 0.0);  // no skills to switch
 }
 
 // The evaluation over training: each kept checkpoint and the latest, exported and tracked on

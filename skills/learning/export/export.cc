@@ -199,7 +199,7 @@ namespace {
 // A scratch run's joint-level policy, its mean action on [o^c, previous action].
 class ScratchController final : public TrackingController {
  public:
-  explicit ScratchController(TrainedScratch trained) : trained_(std::move(trained)) {}
+  explicit ScratchController(TrainedPolicy trained) : trained_(std::move(trained)) {}
   void Reset() override {}
   std::array<double, 3> Clip(const double* command) const override { return {command[0], command[1], command[2]}; }
   int Act(const float* motion_obs, const double* command, const float* previous_action, float* action) override {
@@ -214,7 +214,7 @@ class ScratchController final : public TrackingController {
 
  private:
   static constexpr int kObs = kTaskObsSize + kActionSize;
-  TrainedScratch trained_;
+  TrainedPolicy trained_;
   std::array<float, kObs> obs_{};
 };
 
@@ -237,7 +237,7 @@ CurvePoint SelectorPoint(const std::string& run_dir, int iteration, const std::s
 // A scratch run's checkpoint, on the simulated A1 it trained on without randomisation.
 CurvePoint ScratchPoint(const VelocityTrainConfig& config, const std::string& run_dir, int iteration,
                         const std::vector<TrackingCase>& cases) {
-  TrainedScratch trained = LoadTrainedScratch(config, RunCheckpoint(run_dir, iteration));
+  TrainedPolicy trained = LoadTrainedScratch(config, RunCheckpoint(run_dir, iteration));
   CurvePoint point{trained.iteration, trained.env_steps, {}};
   ScratchController controller(std::move(trained));
   point.tracking = EvaluateController(controller, ServedEnvConfig(config.env, 0), cases, 10.0, 2.0, kTrackingEnvSeed);

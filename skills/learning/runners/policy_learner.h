@@ -82,6 +82,14 @@ class PolicyLearner {
   long env_steps_ = 0;
 };
 
+// The parts of a Gaussian policy's checkpoint that run it: for evaluation and export.
+struct TrainedPolicy {
+  ActorCritic policy{nullptr};
+  RunningNormalizer normalizer{nullptr};
+  int iteration = 0;
+  long env_steps = 0;
+};
+
 // The parts of a checkpoint that run a policy (evaluation, export): its weights, normaliser and
 // counters. The caller names the checkpoint in errors.
 void ReadPolicyParts(torch::serialize::InputArchive& archive, torch::nn::Module& policy, torch::nn::Module& normalizer,

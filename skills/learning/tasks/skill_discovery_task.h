@@ -19,6 +19,7 @@
 #include "skills/learning/networks/motion_history.h"
 #include "skills/learning/networks/normalizer.h"
 #include "skills/learning/networks/pae.h"
+#include "skills/learning/runners/policy_learner.h"
 #include "skills/learning/runners/rollout_task.h"
 #include "skills/learning/runners/train_config.h"
 
@@ -47,13 +48,6 @@ struct SkillDiscoveryStats {
 // A skill-discovery run's progress.csv columns.
 ProgressRecord SkillProgress(const RunnerStats& runner, const SkillDiscoveryStats& task);
 
-// The parts of a checkpoint that run the policy: for evaluation and export.
-struct TrainedPolicy {
-  ActorCritic policy{nullptr};
-  RunningNormalizer normalizer{nullptr};
-  int iteration = 0;
-  long env_steps = 0;
-};
 // Reads the policy and normaliser of a checkpoint written by a run with `config`.
 TrainedPolicy LoadTrainedPolicy(const TrainConfig& config, const std::string& checkpoint);
 

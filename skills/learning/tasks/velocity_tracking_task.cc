@@ -406,8 +406,8 @@ TrainedSelector LoadTrainedSelector(const VelocityTrainConfig& config, int num_s
   return out;
 }
 
-TrainedScratch LoadTrainedScratch(const VelocityTrainConfig& config, const std::string& checkpoint) {
-  TrainedScratch out;
+TrainedPolicy LoadTrainedScratch(const VelocityTrainConfig& config, const std::string& checkpoint) {
+  TrainedPolicy out;
   const int obs = VelocityPolicyObsSize(config, 0);
   out.policy = ActorCritic(obs, obs, kActionSize, config.policy, config.value_streams());
   out.normalizer = RunningNormalizer(NormalizedVelocityObsSize(config));

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "skills/learning/networks/actor_critic.h"
+#include "skills/learning/runners/policy_learner.h"
 #include "skills/learning/runners/rollout_task.h"
 #include "skills/learning/tasks/selector_reward.h"
 #include "skills/learning/tasks/velocity_command_env.h"
@@ -141,13 +142,7 @@ struct TrainedSelector {
 };
 TrainedSelector LoadTrainedSelector(const VelocityTrainConfig& config, int num_skills, const std::string& checkpoint);
 // The parts of a scratch run's checkpoint that run its policy: for evaluation.
-struct TrainedScratch {
-  ActorCritic policy{nullptr};
-  RunningNormalizer normalizer{nullptr};
-  int iteration = 0;
-  long env_steps = 0;
-};
-TrainedScratch LoadTrainedScratch(const VelocityTrainConfig& config, const std::string& checkpoint);
+TrainedPolicy LoadTrainedScratch(const VelocityTrainConfig& config, const std::string& checkpoint);
 
 // Per axis (vx, vy, wz), the range of the velocities of the library's surviving skills, with 0
 // in it, times `widen`: the commands a selector over them can follow.

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "bench/learning_arithmetic.h"
 #include "bench/machine.h"
 #include "core/check.h"
 #include "bench/sim_bench.h"
@@ -29,6 +30,7 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
   RunnerStats sum;
   SkillDiscoveryStats task_sum;
   Communicator::Tally collectives;
+  LearningArithmetic gflop;
   double steps = 0.0, ceiling_steps = 0.0, ceiling_seconds = 0.0;
   for (int i = 0; i < options.iterations; ++i) {
     const RunnerStats s = runner.RunIteration();
@@ -45,17 +47,31 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
     task_sum.seconds_bookkeeping += t.seconds_bookkeeping;
     task_sum.seconds_pae += t.seconds_pae;
     task_sum.seconds_discriminator += t.seconds_discriminator;
+    const LearningArithmetic a = ArithmeticOfLastIteration(task);
+    gflop.policy_inference += a.policy_inference;
+    gflop.rewards += a.rewards;
+    gflop.ppo_update += a.ppo_update;
+    gflop.pae_update += a.pae_update;
+    gflop.discriminator_update += a.discriminator_update;
     // The ceiling alternates with the iterations, so drift on a shared machine hits both alike.
     const double seconds = t.seconds_physics;
     ceiling_steps += MeasurePhysicsCeiling(task.vec_env(), seconds, config.seed + i) * seconds;
     ceiling_seconds += seconds;
   }
+  // The GEMM rate of the same BLAS and threads, measured as the last thing in the same run.
+  const double sgemm = MeasureSgemmGflops(1024, 1.0);
   const double rate = steps / sum.seconds_total;
   // Every rank measured the ceiling of its own share at once: the job's is their sum.
   const double ceiling = comm.Sum(ceiling_steps / ceiling_seconds);
   const double collective_seconds = comm.Sum(collectives.seconds) / comm.size();  // per rank, mean
   if (!comm.leader()) return nullptr;
   auto share = [&](double part) { return part / sum.seconds_total; };
+  auto arithmetic = [&](double seconds, double giga) {
+    return nlohmann::json{{"seconds_per_iteration", seconds / options.iterations},
+                          {"gflop_per_iteration", giga / options.iterations},
+                          {"gflops", giga / seconds},
+                          {"of_sgemm", giga / seconds / sgemm}};
+  };
   return {
       {"benchmark", "train"},
       {"machine", MachineDescription()},
@@ -85,6 +101,13 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
         {"ppo_update", share(sum.seconds_ppo)},
         {"pae_update", share(task_sum.seconds_pae)},
         {"discriminator_update", share(task_sum.seconds_discriminator)}}},
+      {"sgemm_gflops", sgemm},
+      {"learning_arithmetic",
+       {{"policy_inference", arithmetic(sum.seconds_policy, gflop.policy_inference)},
+        {"rewards", arithmetic(sum.seconds_finish, gflop.rewards)},
+        {"ppo_update", arithmetic(sum.seconds_ppo, gflop.ppo_update)},
+        {"pae_update", arithmetic(task_sum.seconds_pae, gflop.pae_update)},
+        {"discriminator_update", arithmetic(task_sum.seconds_discriminator, gflop.discriminator_update)}}},
   };
 }
 

@@ -72,8 +72,19 @@ class PeriodicAutoencoderImpl : public torch::nn::Module {
   PaeOutput Forward(const torch::Tensor& windows);
   // Encoder, Fourier layer and phase only: the manifold P [B, 2D], for rewards.
   torch::Tensor Manifold(const torch::Tensor& windows);
+  // Manifold(WindowsAlong(frames, ends, H)) for the windows of a motion stream [C, L] ending at
+  // columns `ends` [B], without cutting the windows out: the first convolution's outputs away
+  // from a window's ends depend only on the stream, so it runs once over the stream, and only
+  // the padded ends are convolved per window (equal up to float rounding).
+  torch::Tensor ManifoldAlong(const torch::Tensor& frames, const torch::Tensor& ends);
   // Eq. 3: ||o^H - o^H^||^2 / H, averaged over the batch.
   torch::Tensor Loss(const torch::Tensor& windows, const PaeOutput& out) const;
+
+  // Multiply-accumulates of the convolutions and the phase layer (what dominates the arithmetic):
+  // of Forward per window, and of ManifoldAlong over a stream of `columns` frames and `windows`
+  // windows.
+  double ForwardMacsPerWindow() const;
+  double ManifoldAlongMacs(int64_t columns, int64_t windows) const;
 
   int window() const { return window_; }
   int latent_channels() const { return latent_channels_; }
@@ -82,11 +93,19 @@ class PeriodicAutoencoderImpl : public torch::nn::Module {
 
  private:
   torch::Tensor Encode(const torch::Tensor& windows);
+  // The encoder after its first convolution, from that convolution's output [B, hidden, H].
+  torch::Tensor EncodeFromFirstLayer(const torch::Tensor& first);
+  // The first convolution's outputs at the `pad` positions of each window's start (or end) next
+  // to the padding, from the window's first (or last) 2 pad frames [B, C, 2 pad].
+  torch::Tensor FirstLayerAtEdge(const torch::Tensor& edge_frames, bool start);
+  torch::Tensor ManifoldOfLatent(const torch::Tensor& z);
   torch::Tensor Phase(const torch::Tensor& z);  // Eq. 7
   torch::Tensor ManifoldOf(const FourierParameters& f, const torch::Tensor& phase) const;  // Eq. 8
 
   int window_;
   int latent_channels_;
+  int kernel_size_;
+  bool replicate_padding_;
   double sample_rate_hz_;
   double encoder_norm_epsilon_;
   torch::nn::Conv1d encoder1_{nullptr}, encoder2_{nullptr}, decoder1_{nullptr}, decoder2_{nullptr};

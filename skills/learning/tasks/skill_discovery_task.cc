@@ -20,9 +20,6 @@ double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 // The policy normaliser covers o^m and the previous action; the one-hot skill stays as it is.
 constexpr int kNormalizedObs = kMotionObsSize + kActionSize;
-// Windows pass through the PAE for rewards in chunks of this many (measured: 512 runs 16 % faster
-// than 4096, whose activations fall out of cache).
-constexpr int64_t kRewardChunk = 512;
 constexpr uint64_t kSkillStream = 1000003;  // the skill draws' seed offset from the run's seed
 
 int DiscriminatorInputs(Method method, const TrainConfig& config) {
@@ -58,6 +55,7 @@ SkillDiscoveryTask::SkillDiscoveryTask(const TrainConfig& config, const Communic
       policy_obs_size_(PolicyObservationSize(config.num_skills)),
       critic_obs_size_(PolicyObservationSize(config.num_skills) + config.discriminator.skill_frame_size()),
       vec_(config.env, num_envs_, config.seed, ResolveThreadCount(config.num_threads), comm.rank() * num_envs_),
+      streams_(num_envs_, steps_, config.window),
       policy_(policy_obs_size_, critic_obs_size_, kActionSize, config.policy),
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config), config.num_skills, config.discriminator),
@@ -84,8 +82,7 @@ SkillDiscoveryTask::SkillDiscoveryTask(const TrainConfig& config, const Communic
   for (int i = 0; i < n; ++i) {
     skill_rng_.emplace_back(StreamSeed(config.seed + kSkillStream, comm.rank() * n + i));
     DrawSkill(i);
-    history_.emplace_back(config.window);
-    history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
+    if (encodes_windows()) streams_.Restart(i, vec_.motion_obs() + i * kMotionObsSize);
     last_yaw_[i] = vec_.env(i).state().Yaw();
     const a1::JointArray<double>& qd = vec_.env(i).state().joint_velocity;
     std::copy(qd.begin(), qd.end(), &previous_joint_velocity_[i * a1::kNumJoints]);
@@ -93,7 +90,6 @@ SkillDiscoveryTask::SkillDiscoveryTask(const TrainConfig& config, const Communic
   const auto f = torch::kFloat32;
   switching_ = torch::zeros({t, n}, f);
   if (config.env.constraints.enabled) violations_ = torch::zeros({t, n, kNumConstraints}, f);
-  if (method_ == Method::kFlsd) windows_ = torch::zeros({t, n, kMotionObsSize, config.window}, f);
   next_motion_ = torch::zeros({t, n, kMotionObsSize}, f);
   next_position_ = torch::zeros({t, n, config.discriminator.skill_frame_size()}, f);
   skills_ = torch::zeros({t, n}, torch::kLong);
@@ -149,6 +145,7 @@ torch::Tensor SkillDiscoveryTask::CriticObservations(const torch::Tensor& obs) {
 
 void SkillDiscoveryTask::BeginRollout() {
   stats_ = SkillDiscoveryStats{};
+  if (encodes_windows()) streams_.BeginRollout();
   std::fill(ended_.begin(), ended_.end(), 0);
   std::fill(ended_length_sum_.begin(), ended_length_sum_.end(), 0);
   std::fill(ended_falls_.begin(), ended_falls_.end(), 0);
@@ -170,9 +167,8 @@ void SkillDiscoveryTask::Step(int t, const torch::Tensor& actions, Rollout& roll
 
 void SkillDiscoveryTask::AfterStep(int t, const float* actions, Rollout& rollout) {
   const int n = num_envs_;
-  const int window_floats = kMotionObsSize * config_.window;
   const int q_size = config_.discriminator.skill_frame_size();
-  float* windows = method_ == Method::kFlsd ? windows_[t].data_ptr<float>() : nullptr;
+  const bool windows = encodes_windows();
   float* next_motion = next_motion_[t].data_ptr<float>();
   float* next_position = next_position_[t].data_ptr<float>();
   float* dones = rollout.dones[t].data_ptr<float>();
@@ -187,7 +183,7 @@ void SkillDiscoveryTask::AfterStep(int t, const float* actions, Rollout& rollout
       // o^m_{t+1} and q_{t+1}: the final state of an episode that just ended, not the reset one.
       const float* next = (done ? vec_.terminal_motion_obs() : vec_.motion_obs()) + i * kMotionObsSize;
       const float* position = (done ? vec_.terminal_position() : vec_.position()) + i * 3;
-      if (windows != nullptr) history_[i].WriteWindow(next, windows + i * window_floats);
+      if (windows) streams_.Push(i, t, next);
       std::copy(next, next + kMotionObsSize, next_motion + i * kMotionObsSize);
       TurnHeading(i, vec_.stepped_state(i).Yaw());
       SkillFramePosition(i, position, next_position + q_size * i);
@@ -220,9 +216,8 @@ void SkillDiscoveryTask::AfterStep(int t, const float* actions, Rollout& rollout
         heading_turned_[i] = 0.0;
         last_yaw_[i] = vec_.env(i).state().Yaw();
         std::fill(previous, previous + kActionSize, 0.0f);
-        history_[i].Restart(vec_.motion_obs() + i * kMotionObsSize);
+        if (windows) streams_.Restart(i, vec_.motion_obs() + i * kMotionObsSize);
       } else {
-        history_[i].Push(next);
         std::copy(actions + i * kActionSize, actions + (i + 1) * kActionSize, previous);
         ++steps_since_switch_[i];
         // Within the episode, the next skill takes over from this one's motion.
@@ -242,16 +237,6 @@ void SkillDiscoveryTask::AfterStep(int t, const float* actions, Rollout& rollout
   });
 }
 
-// The phase manifold of each window [B, 33, H], encoded in chunks (FLSD's o^d features).
-torch::Tensor SkillDiscoveryTask::Manifold(const torch::Tensor& windows) {
-  const int64_t count = windows.size(0);
-  std::vector<torch::Tensor> parts;
-  for (int64_t begin = 0; begin < count; begin += kRewardChunk) {
-    parts.push_back(pae_->Manifold(windows.slice(0, begin, std::min(count, begin + kRewardChunk))));
-  }
-  return torch::cat(parts, 0);
-}
-
 void SkillDiscoveryTask::FinishRollout(Rollout& rollout, int iteration) {
   torch::NoGradGuard no_grad;
   double ended[3] = {0.0, 0.0, 0.0};  // episodes, their lengths, falls: over all ranks
@@ -269,9 +254,9 @@ void SkillDiscoveryTask::FinishRollout(Rollout& rollout, int iteration) {
   const torch::Tensor positions = next_position_.view({count, config_.discriminator.skill_frame_size()});
   // Eq. 13: FLSD's o^d = [q, P], P the phase manifold of the window ending at t + 1; DIAYN's
   // o^d = [q, o^m].
-  const torch::Tensor features = method_ == Method::kFlsd
-                                     ? Manifold(windows_.view({count, kMotionObsSize, config_.window}))
-                                     : next_motion_.view({count, kMotionObsSize});
+  if (encodes_windows()) windows_ = streams_.Frames();
+  const torch::Tensor features = encodes_windows() ? pae_->ManifoldAlong(windows_.frames, windows_.ends)
+                                                   : next_motion_.view({count, kMotionObsSize});
   const torch::Tensor observations = torch::cat({positions, features}, 1);
   const torch::Tensor skills = skills_.view({count});
   const torch::Tensor log_probs = discriminator_->LogProbs(observations);
@@ -302,9 +287,7 @@ void SkillDiscoveryTask::FinishRollout(Rollout& rollout, int iteration) {
 
 torch::Tensor SkillDiscoveryTask::MirroredFeatures(int64_t count) {
   const mirror::SignedPermutation motion = mirror::MotionObservation();
-  if (method_ == Method::kFlsd) {
-    return Manifold(MirrorAlong(motion, windows_.view({count, kMotionObsSize, config_.window}), 1));
-  }
+  if (encodes_windows()) return pae_->ManifoldAlong(MirrorAlong(motion, windows_.frames, 0), windows_.ends);
   return MirrorAlong(motion, next_motion_.view({count, kMotionObsSize}), 1);
 }
 
@@ -339,11 +322,10 @@ double SkillDiscoveryTask::UpdatePae() {
   const PaeConfig& c = config_.pae;
   const int64_t count = static_cast<int64_t>(steps_) * num_envs_;
   const int64_t sampled = std::max<int64_t>(1, std::llround(c.sample_fraction * count));
-  const torch::Tensor windows = windows_.view({count, kMotionObsSize, config_.window});
   const torch::Tensor chosen = torch::randperm(count, torch::kLong).slice(0, 0, sampled);
   const mirror::SignedPermutation motion = mirror::MotionObservation();
   return TrainEpochs(pae_optimizer_, comm_, chosen, c.epochs, c.minibatch_size, [&](const torch::Tensor& idx) {
-    torch::Tensor x = windows.index_select(0, idx);
+    torch::Tensor x = WindowsAlong(windows_.frames, windows_.ends.index_select(0, idx), config_.window);
     // With symmetry, half of the windows are mirror images, so that the manifold of a mirrored
     // window (the discriminator's mirrored samples) is in the PAE's training distribution.
     if (config_.symmetry.enabled) {
@@ -366,7 +348,7 @@ double SkillDiscoveryTask::UpdateDiscriminator() {
 
 bool SkillDiscoveryTask::UpdateAuxiliaries() {
   Clock::time_point phase = Clock::now();
-  if (method_ == Method::kFlsd) stats_.pae_loss = UpdatePae();
+  if (encodes_windows()) stats_.pae_loss = UpdatePae();
   stats_.seconds_pae = Since(phase);
 
   phase = Clock::now();

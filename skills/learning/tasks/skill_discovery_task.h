@@ -16,7 +16,7 @@
 #include "skills/learning/algorithms/train_epochs.h"
 #include "skills/learning/networks/actor_critic.h"
 #include "skills/learning/networks/discriminator.h"
-#include "skills/learning/networks/motion_history.h"
+#include "skills/learning/networks/motion_streams.h"
 #include "skills/learning/networks/normalizer.h"
 #include "skills/learning/networks/pae.h"
 #include "skills/learning/runners/policy_learner.h"
@@ -89,6 +89,10 @@ class SkillDiscoveryTask : public RolloutTask {
   PeriodicAutoencoder pae() const { return pae_; }
   Discriminator discriminator() const { return discriminator_; }
   VecEnv& vec_env() { return vec_; }
+  // The last rollout's motion streams (FLSD) and the discriminator's samples, for the bench's count
+  // of the learning arithmetic.
+  const MotionStreamFrames& motion_windows() const { return windows_; }
+  int64_t discriminator_samples() const { return discriminator_obs_.size(0); }
 
  private:
   // q of env i at world position `world` (3 floats) in the frame the current skill started in:
@@ -101,10 +105,10 @@ class SkillDiscoveryTask : public RolloutTask {
   // episode and skill schedule on.
   void AfterStep(int t, const float* actions, Rollout& rollout);
   void DrawSkill(int env);
+  bool encodes_windows() const { return method_ == Method::kFlsd; }
   // The discriminator's training samples and labels: this rollout's, but for the steps just after
   // a skill switch, and with symmetry their mirror images too.
   void DiscriminatorSamples(const torch::Tensor& features, const torch::Tensor& positions);
-  torch::Tensor Manifold(const torch::Tensor& windows);
   torch::Tensor MirroredFeatures(int64_t count);
   double UpdatePae();
   double UpdateDiscriminator();
@@ -115,6 +119,7 @@ class SkillDiscoveryTask : public RolloutTask {
   int num_envs_, steps_;
   int policy_obs_size_, critic_obs_size_;
   VecEnv vec_;
+  MotionStreams streams_;  // o^m of every env, read as the PAE's windows (FLSD)
 
   ActorCritic policy_{nullptr};
   PeriodicAutoencoder pae_{nullptr};
@@ -130,7 +135,6 @@ class SkillDiscoveryTask : public RolloutTask {
   std::vector<Rng> skill_rng_;
   std::vector<float> previous_action_;
   std::vector<double> previous_joint_velocity_;  // per env x 12, for the dof_acc penalty
-  std::vector<MotionHistory> history_;
   std::vector<int> episode_length_;
   std::vector<int> steps_to_switch_, steps_since_switch_;  // skill switching within an episode
   std::vector<std::array<double, 3>> skill_origin_;  // per env: x, y (m) and yaw (rad) at the switch
@@ -141,7 +145,7 @@ class SkillDiscoveryTask : public RolloutTask {
   // The rollout's own parts, [T, N, ...].
   torch::Tensor switching_;      // [T, N] 1 within reward_mask_steps of a skill switch
   torch::Tensor violations_;     // [T, N, kNumConstraints] (constraints as terminations)
-  torch::Tensor windows_;        // [T, N, 33, H] o^H_{t+1} (FLSD)
+  MotionStreamFrames windows_;   // o^H_{t+1} as the streams and where each window ends (FLSD)
   torch::Tensor next_motion_;    // [T, N, 33] o^m_{t+1}
   torch::Tensor next_position_;  // [T, N, 2 or 3] q at t+1
   torch::Tensor skills_;         // [T, N] int64

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "skills/learning/networks/motion_streams.h"
 #include "tests/common/test_support.h"
 
 namespace flsd {
@@ -157,6 +158,41 @@ TEST(PeriodicAutoencoder, ManifoldIsForwardsManifold) {
   // The learned phase is in cycles, within (-0.5, 0.5].
   const torch::Tensor phase = pae->Forward(x).phase;
   EXPECT_TRUE((phase > -0.5).all().item<bool>() && (phase <= 0.5).all().item<bool>()) << phase;
+}
+
+// A stream of three episodes' segments as MotionStreams lays them out (H - 1 copies of a first
+// frame, then motion), and windows ending anywhere in a segment, including at its first frames
+// and at the last: ManifoldAlong reads the same manifold as Manifold of the cut-out windows, with
+// either padding, a kernel wider than the window's half, and more windows than one chunk.
+TEST(PeriodicAutoencoder, ManifoldAlongAStreamIsManifoldOfItsWindows) {
+  for (bool replicate : {true, false}) {
+    for (int kernel : {1, 9, 31, 61}) {
+      torch::manual_seed(7);
+      PaeConfig c = SmallConfig();
+      c.replicate_padding = replicate;
+      c.kernel_size = kernel;
+      PeriodicAutoencoder pae(kChannels, kWindow, kRate, c);
+      std::vector<torch::Tensor> segments;
+      std::vector<int64_t> ends;
+      int64_t length = 0;
+      for (int episode = 0; episode < 3; ++episode) {
+        const int64_t steps = 200 + 150 * episode;
+        const torch::Tensor first = torch::randn({kChannels, 1});
+        segments.push_back(first.expand({kChannels, kWindow - 1}));
+        segments.push_back(torch::randn({kChannels, steps}));
+        for (int64_t k = 0; k < steps; ++k) ends.push_back(length + kWindow - 1 + k);
+        length += kWindow - 1 + steps;
+      }
+      const torch::Tensor frames = torch::cat(segments, 1);
+      const torch::Tensor end_columns = torch::tensor(ends, torch::kLong);
+      torch::NoGradGuard no_grad;
+      const torch::Tensor along = pae->ManifoldAlong(frames, end_columns);
+      const torch::Tensor cut = pae->Manifold(WindowsAlong(frames, end_columns, kWindow));
+      SCOPED_TRACE(testing::Message() << (replicate ? "replicate" : "zero") << " padding, kernel " << kernel);
+      ASSERT_EQ(along.sizes(), cut.sizes());
+      EXPECT_LT((along - cut).abs().max().item<double>(), 1e-4 * (1.0 + cut.abs().max().item<double>()));
+    }
+  }
 }
 
 // Eq. 3: ||o - o^||^2 / H per window, averaged over the batch.

@@ -16,7 +16,7 @@ namespace flsd::testutil {
 
 struct Skillweb {
   std::unique_ptr<Process> process;
-  std::string url;  // http://127.0.0.1:PORT/, empty if it did not start
+  std::string url;  // http(s)://127.0.0.1:PORT/, empty if it did not start
   int port = 0;
 };
 
@@ -25,7 +25,7 @@ inline Skillweb StartSkillweb(std::vector<std::string> args, const std::string& 
   args.insert(args.end(), {"--port", "0"});
   Skillweb web;
   web.process = std::make_unique<Process>(BinaryPath("skillweb"), args, log_path);
-  const std::regex address("http://127\\.0\\.0\\.1:([0-9]+)/");
+  const std::regex address("https?://127\\.0\\.0\\.1:([0-9]+)/");
   for (int i = 0; i < 100 && web.url.empty(); ++i) {
     std::smatch m;
     const std::string text = web.process->Log();

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <csignal>
 #include <chrono>
 
 #include "core/check.h"
@@ -32,6 +33,9 @@ std::string ExposureError(const ListenOptions& listen, bool logins, bool insecur
 }
 
 WebServer::WebServer(const ListenOptions& options, const std::function<void(httplib::Server&)>& mount) {
+  // OpenSSL writes with write(2), not send(MSG_NOSIGNAL): a page that goes mid-response would
+  // otherwise end skillweb with SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
   if (options.tls_cert.empty() != options.tls_key.empty()) {
     throw InputError("--tls-cert and --tls-key go together: HTTPS needs the certificate and its private key");
   }

@@ -6,19 +6,15 @@
 
 namespace flsd::web {
 
-Session::Session(std::string user_name, Role user_role, std::unique_ptr<Client> dds_client, Clock::time_point end)
-    : user(std::move(user_name)),
-      role(user_role),
-      expires(end),
-      client(std::move(dds_client)),
-      feed(std::make_unique<StateFeed>(*client)) {
+Session::Session(std::string user_name, Role user_role, std::unique_ptr<PageLink> page_link, Clock::time_point end)
+    : user(std::move(user_name)), role(user_role), expires(end), link(std::move(page_link)) {
   Touch();
 }
 
 std::string Session::RandomToken() { return RandomHex(32); }
 
 std::string Session::Describe() const {
-  return (user.empty() ? std::string("open page") : user) + " (" + RoleName(role) + ", client " + client->id() + ")";
+  return (user.empty() ? std::string("open page") : user) + " (" + RoleName(role) + ", client " + link->id() + ")";
 }
 
 SessionStore::SessionStore(SessionLimits limits) : limits_(limits) {
@@ -42,12 +38,12 @@ SessionStore::~SessionStore() {
   reaper_.join();
 }
 
-std::shared_ptr<Session> SessionStore::Open(const User& user, std::unique_ptr<Client> client) {
+std::shared_ptr<Session> SessionStore::Open(const User& user, std::unique_ptr<PageLink> link) {
   const auto now = Session::Clock::now();
   CloseExpired();
   std::lock_guard<std::mutex> lock(mutex_);
   if (static_cast<int>(sessions_.size()) >= limits_.max_sessions) return nullptr;
-  auto session = std::make_shared<Session>(user.name, user.role, std::move(client), now + limits_.lifetime);
+  auto session = std::make_shared<Session>(user.name, user.role, std::move(link), now + limits_.lifetime);
   sessions_[session->token] = session;
   return session;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // The pages skillweb serves, each with a DDS client of its own. A login opens a session: a random
-// 256-bit token for its cookie, a CSRF token the page sends with every command, and a
-// flsd::Client made for that user (its own participant, with the user's DDS Security identity
+// 256-bit token for its cookie, a CSRF token the page sends with every command, and a PageLink
+// made for that user (its own flsd::Client and participant, with the user's DDS Security identity
 // when there is one), so that skilld sees each page as a client of its own and the control lease
 // belongs to that page. Logout or expiry closes it: its streams end and its client goes, releasing
 // the lease. Without logins, one open session stands for every page, as skillweb did before.
@@ -15,9 +15,7 @@
 #include <string>
 #include <thread>
 
-#include "client/client.h"
-#include "client/web/rate_limiter.h"
-#include "client/web/state_feed.h"
+#include "client/web/page_link.h"
 #include "client/web/users_file.h"
 
 namespace flsd::web {
@@ -25,15 +23,14 @@ namespace flsd::web {
 struct Session {
   using Clock = std::chrono::steady_clock;
 
-  Session(std::string user, Role role, std::unique_ptr<Client> client, Clock::time_point expires);
+  Session(std::string user, Role role, std::unique_ptr<PageLink> link, Clock::time_point expires);
 
   const std::string token = RandomToken();  // the cookie's value
   const std::string csrf = RandomToken();
   const std::string user;  // "" for the open session (no logins)
   const Role role;
   const Clock::time_point expires;  // at the latest, however active the page
-  std::unique_ptr<Client> client;
-  std::unique_ptr<StateFeed> feed;  // after client: it reads from it and goes first
+  const std::unique_ptr<PageLink> link;
   std::atomic<Clock::rep> last_seen;  // Clock ticks: a request or a streamed event
   std::atomic<bool> open{true};
   std::atomic<int> streams{0};
@@ -62,8 +59,8 @@ class SessionStore {
 
   const SessionLimits& limits() const { return limits_; }
 
-  // A new session for `user` with its client; nullptr when max_sessions are open.
-  std::shared_ptr<Session> Open(const User& user, std::unique_ptr<Client> client);
+  // A new session for `user` with its link; nullptr when max_sessions are open.
+  std::shared_ptr<Session> Open(const User& user, std::unique_ptr<PageLink> link);
   // The open session of `token`, touched; nullptr if there is none or it expired.
   std::shared_ptr<Session> Find(const std::string& token);
   void Close(const std::string& token);

@@ -9,10 +9,12 @@
 
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 
 #include "client/client.h"
 #include "client/web/credentials.h"
+#include "client/web/page_agent.h"
 #include "client/web/users_file.h"
 #include "client/web/web_app.h"
 #include "core/check.h"
@@ -64,7 +66,7 @@ int main(int argc, char** argv) {
   flsd::web::ListenOptions listen;
   std::string map = "configs/maps/demo.yaml", page_dir = FLSD_WEB_PAGE_DIR, urdf = "robot/a1/a1.urdf";
   std::string security_file, users_file, pki_dir, add_user, role = "observer", identity = "-";
-  bool insecure = false;
+  bool insecure = false, page_agent = false, read_only = false;
   int session_minutes = 30;
   app.add_option("--domain", client.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--partition", client.partition, "DDS partition");
@@ -90,6 +92,9 @@ int main(int argc, char** argv) {
   app.add_option("--add-user", add_user, "Add (or replace) this user in --users, the password read from stdin, and exit");
   app.add_option("--role", role, "With --add-user: operator (watches and commands) or observer (watches)");
   app.add_option("--identity", identity, "With --add-user: the user's make_pki.sh identity name, '-' for none");
+  // skillweb's own: each page's DDS client in a process of its own (client/web/page_agent.h).
+  app.add_flag("--page-agent", page_agent)->group("");
+  app.add_flag("--read-only", read_only)->group("");
   app.add_option("--map", map, "Navigation map shown on the page (YAML; the server's default); '' for none");
   app.add_option("--page-dir", page_dir, "The built page (index.html, app.js, style.css)");
   app.add_option("--urdf", urdf, "The robot's URDF");
@@ -99,6 +104,15 @@ int main(int argc, char** argv) {
     if (!add_user.empty()) {
       AddUser(users_file, add_user, role, identity);
       return 0;
+    }
+    if (!security_file.empty()) {
+      client.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
+      const std::string error = flsd::dds::SecurityFilesError(client.security, security_file + ":");
+      if (!error.empty()) throw flsd::InputError(error);
+    }
+    if (page_agent) {
+      client.read_only = read_only;
+      return flsd::web::RunPageAgent(client);
     }
     const std::string exposure = flsd::web::ExposureError(listen, !users_file.empty(), insecure);
     if (!exposure.empty()) throw flsd::InputError(exposure);
@@ -113,12 +127,8 @@ int main(int argc, char** argv) {
     if (!users_file.empty()) options.users = flsd::web::LoadUsers(users_file);
     options.pki_dir = pki_dir;
     options.sessions.idle = std::chrono::minutes(session_minutes);
-    if (!security_file.empty()) {
-      client.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
-      const std::string error = flsd::dds::SecurityFilesError(client.security, security_file + ":");
-      if (!error.empty()) throw flsd::InputError(error);
-    }
     options.client = client;
+    options.agent_program = std::filesystem::read_symlink("/proc/self/exe").string();
     flsd::web::WebApp web(options);
     const int port = web.Listen(listen);
     const std::string who = options.users ? std::to_string(options.users->size()) + " users, a login per page"

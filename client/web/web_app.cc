@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "client/web/credentials.h"
+#include "client/web/page_agent.h"
 #include "client/web/web_json.h"
-#include "comm/protocol.h"
 #include "core/check.h"
 #include "core/config.h"
 #include "robot/a1.h"
@@ -77,7 +77,7 @@ json SessionJson(const Session& s, bool logins) {
   return {{"user", s.user},
           {"role", RoleName(s.role)},
           {"logins", logins},
-          {"client_id", s.client->id()},
+          {"client_id", s.link->id()},
           {"csrf", s.csrf},
           {"can_command", op},
           {"reason", op ? "" : "observer: may watch, not command (log in as an operator to command)"}};
@@ -99,7 +99,7 @@ WebApp::WebApp(WebAppOptions options)
       login_attempts_(5, std::chrono::seconds(10)),           // per remote address
       commands_(20, std::chrono::milliseconds(200)) {         // per session: bursts of 20, 5 a second
   if (!options_.users) {
-    open_session_ = std::make_shared<Session>("", Role::kOperator, std::make_unique<Client>(options_.client),
+    open_session_ = std::make_shared<Session>("", Role::kOperator, std::make_unique<LocalPageLink>(options_.client),
                                               Session::Clock::time_point::max());
     return;
   }
@@ -108,13 +108,15 @@ WebApp::WebApp(WebAppOptions options)
     const std::string where = "--users: user " + name + ": ";
     if (user.identity == "-") throw InputError(where + "with --pki every user needs an identity, not '-'");
     const std::string file = options_.pki_dir + "/" + user.identity + "/security.yaml";
+    dds::SecurityConfig security;
     try {
-      identities_[name] = LoadConfigSection<dds::SecurityConfig>(file, "security");
+      security = LoadConfigSection<dds::SecurityConfig>(file, "security");
     } catch (const std::exception& e) {
       throw InputError(where + "identity " + user.identity + ": " + e.what());
     }
-    const std::string error = dds::SecurityFilesError(identities_[name], where + file + ":");
+    const std::string error = dds::SecurityFilesError(security, where + file + ":");
     if (!error.empty()) throw InputError(error);
+    identities_[name] = file;
   }
 }
 
@@ -196,16 +198,14 @@ void WebApp::Mount(httplib::Server& server) {
                Reply(res, 200, SessionJson(*s, options_.users.has_value()));
              }));
   server.Get("/api/info", with_session([this](const std::shared_ptr<Session>& s, httplib::Response& res) {
-               json info{{"client_id", s->client->id()}, {"joint_names", a1::kJointNames}, {"map", nullptr}};
+               json info{{"client_id", s->link->id()}, {"joint_names", a1::kJointNames}, {"map", nullptr}};
                if (options_.map) info["map"] = ToJson(*options_.map);
                Reply(res, 200, info);
              }));
   server.Get("/api/skills", with_session([](const std::shared_ptr<Session>& s, httplib::Response& res) {
-               try {
-                 Reply(res, 200, ToJson(s->client->ListSkills()));
-               } catch (const CallError& e) {
-                 Reply(res, 503, ToJson(e.reply()));
-               }
+               int status = 200;
+               const json skills = s->link->Skills(status);
+               Reply(res, status, skills);
              }));
   server.Get("/api/events", with_session([this](const std::shared_ptr<Session>& s, httplib::Response& res) {
                Events(s, res);
@@ -234,12 +234,9 @@ void WebApp::Login(const httplib::Request& request, httplib::Response& response)
     AuditLine(request, "login", "refused for user '" + OneLine(name) + "'");
     return Refuse(response, 401, "wrong user name or password");
   }
-  Client::Options client = options_.client;
-  client.read_only = user->second.role == Role::kObserver;
-  if (const auto identity = identities_.find(name); identity != identities_.end()) client.security = identity->second;
   std::shared_ptr<Session> session;
   try {
-    session = sessions_.Open(user->second, std::make_unique<Client>(client));
+    session = sessions_.Open(user->second, Connect(user->second));
   } catch (const std::exception& e) {
     return Refuse(response, 503, std::string("cannot connect this page to skilld: ") + e.what());
   }
@@ -250,6 +247,18 @@ void WebApp::Login(const httplib::Request& request, httplib::Response& response)
                                         std::to_string(lifetime) + "; HttpOnly; SameSite=Strict" +
                                         (tls_ ? "; Secure" : ""));
   Reply(response, 200, SessionJson(*session, true));
+}
+
+std::unique_ptr<PageLink> WebApp::Connect(const User& user) const {
+  const bool observer = user.role == Role::kObserver;  // its client makes no calls
+  const auto identity = identities_.find(user.name);
+  if (identity == identities_.end()) {
+    Client::Options client = options_.client;
+    client.read_only = observer;
+    return std::make_unique<LocalPageLink>(client);
+  }
+  return std::make_unique<AgentPageLink>(AgentOptions{options_.agent_program, options_.client.domain_id,
+                                                      options_.client.partition, identity->second, observer});
 }
 
 void WebApp::Logout(const httplib::Request& request, httplib::Response& response) {
@@ -275,7 +284,7 @@ void WebApp::Events(const std::shared_ptr<Session>& session, httplib::Response& 
       "text/event-stream",
       [this, session, seen](std::size_t, httplib::DataSink& sink) {
         if (stopping_ || !session->open) return false;
-        const std::string event = session->feed->Next(*seen, *seen, std::chrono::milliseconds(1000));
+        const std::string event = session->link->NextEvent(*seen, *seen, std::chrono::milliseconds(1000));
         session->Touch();
         // A comment line while no state comes keeps proxies from closing the stream and tells
         // this thread when the page has gone.
@@ -300,60 +309,11 @@ void WebApp::Command(const httplib::Request& request, httplib::Response& respons
     return Refuse(response, 403, "observer: may watch, not command");
   }
   int status = 200;
-  json reply = Call(*session, name, request.body, status);
+  json reply = session->link->Command(name, request.body, status);
   AuditLine(request, session->Describe(),
             name + " " + OneLine(request.body.empty() ? "{}" : request.body) + " -> " + OneLine(reply["audit"]));
   reply.erase("audit");
   Reply(response, status, reply);
-}
-
-json WebApp::Call(Session& session, const std::string& name, const std::string& body, int& status) {
-  const auto refused = [&status](int code, const std::string& why) {
-    status = code;
-    return json{{"ok", false}, {"status", "refused"}, {"message", why}, {"audit", "refused: " + why}};
-  };
-  Client& client = *session.client;
-  const std::optional<flsd::Call> call = FindCall(name);
-  std::function<flsd::Reply()> make;
-  try {
-    const json args = body.empty() ? json::object() : json::parse(body);
-    if (!args.is_object()) return refused(400, "the body is not a JSON object");
-    const auto number = [&](const char* key) { return args.value(key, 0.0); };
-    switch (call.value_or(flsd::Call::kStatus)) {
-      case flsd::Call::kDamp: make = [&client] { return client.Damp(); }; break;
-      case flsd::Call::kClearStop: make = [&client] { return client.ClearStop(); }; break;
-      case flsd::Call::kReleaseControl: make = [&client] { return client.ReleaseControl(); }; break;
-      case flsd::Call::kStand: make = [&client] { return client.Stand(); }; break;
-      case flsd::Call::kStop: make = [&client] { return client.Stop(); }; break;
-      case flsd::Call::kReset: make = [&client] { return client.Reset(); }; break;
-      case flsd::Call::kExecuteSkill: {
-        const int skill = args.at("skill").get<int>();
-        const double duration = number("duration");
-        make = [&client, skill, duration] { return client.ExecuteSkill(skill, duration).reply(); };
-        break;
-      }
-      case flsd::Call::kTrackVelocity: {
-        const double vx = number("vx"), vy = number("vy"), wz = number("wz"), duration = number("duration");
-        make = [&client, vx, vy, wz, duration] { return client.TrackVelocity(vx, vy, wz, duration).reply(); };
-        break;
-      }
-      case flsd::Call::kNavigate: {
-        const double x = args.at("x").get<double>(), y = args.at("y").get<double>();
-        make = [&client, x, y] { return client.Navigate(x, y).reply(); };
-        break;
-      }
-      default:  // the lease is the page's to keep; skills and status have routes of their own
-        return refused(404, "not a call the page makes: " + name);
-    }
-  } catch (const json::exception& e) {
-    return refused(400, std::string("bad arguments: ") + e.what());
-  }
-  // Like any client: take the page's lease (or keep it) before a call that needs it.
-  flsd::Reply reply = Spec(*call).needs_control ? client.AcquireControl() : flsd::Reply{};
-  if (!Spec(*call).needs_control || reply.ok()) reply = make();
-  json answer = ToJson(reply);
-  answer["audit"] = reply.Describe();
-  return answer;
 }
 
 }  // namespace flsd::web

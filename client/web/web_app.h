@@ -24,9 +24,8 @@
 #include <optional>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "client/client.h"
+#include "client/web/page_link.h"
 #include "client/web/rate_limiter.h"
 #include "client/web/sessions.h"
 #include "client/web/users_file.h"
@@ -47,6 +46,7 @@ struct WebAppOptions {
   Client::Options client;      // domain and partition; `security`: the open session's identity
   std::optional<Users> users;  // logins; none: one open session serves every page
   std::string pki_dir;         // with users: DDS Security, each user's DIR/IDENTITY/security.yaml
+  std::string agent_program;   // with pki_dir: skillweb itself, run as each page's --page-agent
   SessionLimits sessions;
 };
 
@@ -62,7 +62,7 @@ class WebApp {
   // Serves on `listen`; returns the port.
   int Listen(const ListenOptions& listen);
   // The open session's client id, or "" with logins.
-  std::string open_client_id() const { return open_session_ ? open_session_->client->id() : ""; }
+  std::string open_client_id() const { return open_session_ ? open_session_->link->id() : ""; }
 
  private:
   void Mount(httplib::Server& server);
@@ -72,11 +72,10 @@ class WebApp {
   void Logout(const httplib::Request& request, httplib::Response& response);
   void Events(const std::shared_ptr<Session>& session, httplib::Response& response);
   void Command(const httplib::Request& request, httplib::Response& response);
-  // The command's reply as JSON (with "audit": the result for the audit line) and its HTTP status.
-  nlohmann::json Call(Session& session, const std::string& name, const std::string& body, int& status);
+  std::unique_ptr<PageLink> Connect(const User& user) const;
 
   WebAppOptions options_;
-  std::map<std::string, dds::SecurityConfig> identities_;  // by user, with --pki
+  std::map<std::string, std::string> identities_;  // each user's security.yaml, with --pki
   std::shared_ptr<Session> open_session_;
   SessionStore sessions_;
   RateLimiter login_attempts_, commands_;

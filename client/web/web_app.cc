@@ -74,7 +74,8 @@ std::string OneLine(std::string text) {
 
 json SessionJson(const Session& s, bool logins) {
   const bool op = s.role == Role::kOperator;
-  return {{"user", s.user},
+  return {{"logged_in", true},
+          {"user", s.user},
           {"role", RoleName(s.role)},
           {"logins", logins},
           {"client_id", s.link->id()},
@@ -194,9 +195,11 @@ void WebApp::Mount(httplib::Server& server) {
   };
   server.Post("/api/login", [this](const httplib::Request& req, httplib::Response& res) { Login(req, res); });
   server.Post("/api/logout", [this](const httplib::Request& req, httplib::Response& res) { Logout(req, res); });
-  server.Get("/api/session", with_session([this](const std::shared_ptr<Session>& s, httplib::Response& res) {
-               Reply(res, 200, SessionJson(*s, options_.users.has_value()));
-             }));
+  // Not logged in is an answer here, not an error: the page shows its login form.
+  server.Get("/api/session", [this](const httplib::Request& req, httplib::Response& res) {
+    const std::shared_ptr<Session> session = Find(req);
+    Reply(res, 200, session ? SessionJson(*session, options_.users.has_value()) : json{{"logged_in", false}, {"logins", true}});
+  });
   server.Get("/api/info", with_session([this](const std::shared_ptr<Session>& s, httplib::Response& res) {
                json info{{"client_id", s->link->id()}, {"joint_names", a1::kJointNames}, {"map", nullptr}};
                if (options_.map) info["map"] = ToJson(*options_.map);
@@ -283,7 +286,10 @@ void WebApp::Events(const std::shared_ptr<Session>& session, httplib::Response& 
   response.set_chunked_content_provider(
       "text/event-stream",
       [this, session, seen](std::size_t, httplib::DataSink& sink) {
-        if (stopping_ || !session->open) return false;
+        if (stopping_ || !session->open) {  // the stream's proper end, which the page reads as such
+          sink.done();
+          return true;
+        }
         const std::string event = session->link->NextEvent(*seen, *seen, std::chrono::milliseconds(1000));
         session->Touch();
         // A comment line while no state comes keeps proxies from closing the stream and tells

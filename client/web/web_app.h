@@ -6,7 +6,7 @@
 //
 //   GET  /  /app.js  /style.css  /a1.urdf      the page (built into `page_dir`) and the robot
 //   POST /api/login {name, password}           opens a session: its cookie, CSRF token and client
-//   GET  /api/session                          who this page is, its role and CSRF token
+//   GET  /api/session                          who this page is, its role and CSRF token (or logged_in false)
 //   POST /api/logout                           closes the session and its client
 //   GET  /api/info                             joint names, the map, this page's client id
 //   GET  /api/skills                           the library's skills

@@ -16,6 +16,7 @@ async function getJson(path) {
 
 // This page's session: its user, role and CSRF token; null until logged in.
 let session = null;
+let leaving = false;  // logged out: the page reloads itself
 
 // POSTs JSON to skillweb; the CSRF token goes with it, as skillweb requires of a command.
 function post(path, args) {
@@ -28,10 +29,8 @@ function post(path, args) {
 
 // The session, or null when skillweb wants a login first.
 async function fetchSession() {
-  const r = await fetch('/api/session');
-  if (r.status === 401) return null;
-  if (!r.ok) throw new Error(`/api/session: ${r.status}`);
-  return r.json();
+  const s = await getJson('/api/session');
+  return s.logged_in ? s : null;
 }
 
 // A call to skilld through skillweb; the reply's status and message go under the controls.
@@ -91,11 +90,12 @@ function showSession() {
   $('who').hidden = $('logout').hidden = !session.logins;
   $('who').textContent = `${session.user} · ${session.role}`;
   $('logout').onclick = async () => {
+    leaving = true;
     await post('/api/logout', {});
     location.reload();
   };
   if (session.can_command) return;
-  for (const control of document.querySelectorAll('main button, #damp')) {
+  for (const control of document.querySelectorAll('main button:not(#logout), #damp')) {
     control.disabled = true;
     control.title = session.reason;
   }
@@ -169,7 +169,7 @@ async function start() {
     $('link').textContent = 'reconnecting';
     $('link').className = 'badge off';
     // A session that ended (logout elsewhere, expiry) needs a new login, not a reconnection.
-    fetchSession().then((s) => s || location.reload()).catch(() => {});
+    if (!leaving) fetchSession().then((s) => s || location.reload()).catch(() => {});
   };
   // Text and 2-D drawings at the screen's rate, not the stream's.
   const draw = () => {

@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -25,27 +24,19 @@ using testutil::UniqueTempPath;
 
 class SkillwebHttpsTest : public testutil::SkilldFixture {
  protected:
-  // A self-signed certificate for 127.0.0.1, and operators alice and bob and observer carol, added
-  // with skillweb --add-user as the docs say.
+  // Operators alice and bob, observer carol.
   static void SetUpTestSuite() {
     dir_ = (fs::temp_directory_path() / ("flsd_web_https_" + std::to_string(getpid()))).string();
     fs::create_directories(dir_);
-    const std::string cert = "openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 1 "
-                             "-subj /CN=127.0.0.1 -keyout " + dir_ + "/key.pem -out " + dir_ + "/cert.pem 2> /dev/null";
-    ASSERT_EQ(std::system(cert.c_str()), 0);
-    for (const auto& [name, role] : {std::pair{"alice", "operator"}, {"bob", "operator"}, {"carol", "observer"}}) {
-      const std::string add = "printf '" + Password(name) + "\\n' | " + testutil::BinaryPath("skillweb") +
-                              " --users " + dir_ + "/users --add-user " + name + " --role " + role + " > /dev/null";
-      ASSERT_EQ(std::system(add.c_str()), 0) << add;
-    }
+    testutil::MakeHttpsLogins(dir_, {{"alice", "operator"}, {"bob", "operator"}, {"carol", "observer"}});
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
-  static std::string Password(const std::string& name) { return name + "-password"; }
+  static std::string Password(const std::string& name) { return testutil::TestPassword(name); }
 
   testutil::Skillweb Start() {
-    return testutil::StartSkillweb({"--domain", std::to_string(domain_), "--partition", partition_, "--tls-cert",
-                                    dir_ + "/cert.pem", "--tls-key", dir_ + "/key.pem", "--users", dir_ + "/users"},
-                                   UniqueTempPath("skillweb.log"));
+    std::vector<std::string> args = {"--domain", std::to_string(domain_), "--partition", partition_};
+    for (const std::string& a : testutil::HttpsLoginArgs(dir_)) args.push_back(a);
+    return testutil::StartSkillweb(args, UniqueTempPath("skillweb.log"));
   }
 
   static inline std::string dir_;
@@ -74,7 +65,7 @@ TEST_F(SkillwebHttpsTest, LoginsRolesCsrfLeasesAndAudit) {
   ASSERT_EQ(web.url.rfind("https://127.0.0.1:", 0), 0u) << web.url;
 
   PageSession stranger(web.url);
-  EXPECT_EQ(stranger.Get("/api/session")->status, 401);
+  EXPECT_EQ(Body(stranger.Get("/api/session")), (json{{"logged_in", false}, {"logins", true}}));
   EXPECT_EQ(stranger.Get("/api/events")->status, 401);
   EXPECT_EQ(stranger.Command("stand")->status, 401);
   EXPECT_EQ(stranger.Login("alice", "not-her-password")->status, 401);
@@ -126,7 +117,8 @@ TEST_F(SkillwebHttpsTest, LoginsRolesCsrfLeasesAndAudit) {
 
   // Logout closes alice's session and its client, which gives the lease back.
   EXPECT_EQ(alice.Command("logout")->status, 200);
-  EXPECT_EQ(alice.Get("/api/session")->status, 401);
+  EXPECT_EQ(Body(alice.Get("/api/session"))["logged_in"], false);
+  EXPECT_EQ(alice.Get("/api/info")->status, 401);
   EXPECT_EQ(Body(bob.Command("stand"))["ok"], true);
 
   const std::string log = web.process->Log();

@@ -1,8 +1,9 @@
 // skillweb against skilld with DDS Security on. The open page (no logins) with an operator's
 // identity (--security) streams the state and commands; without credentials it does neither.
-// With logins and --pki, one skillweb holds a participant per page, each with its user's identity:
-// the operator's page commands, the observer's streams the state and cannot command. The test
-// speaks HTTP only and makes no DDS entity: Cyclone keeps one security configuration per process.
+// With logins, HTTPS and --pki, one skillweb serves a page per login, each a participant with its
+// user's identity (in a page agent process: Cyclone keeps one identity per process): the
+// operator's page commands, the observer's streams the state and cannot command. The test
+// speaks HTTP(S) only and makes no DDS entity: Cyclone keeps one security configuration per process.
 
 #include <gtest/gtest.h>
 
@@ -32,12 +33,7 @@ class SkillwebSecurityTest : public testutil::SkilldFixture {
     pki_ = (fs::temp_directory_path() / ("flsd_web_pki_" + std::to_string(getpid()))).string();
     const std::string make = "bash " FLSD_SOURCE_DIR "/scripts/make_pki.sh " + pki_ + " --operators op --observers obs > /dev/null";
     ASSERT_EQ(std::system(make.c_str()), 0);
-    for (const auto& [name, role] : {std::pair{"op", "operator"}, {"obs", "observer"}}) {
-      const std::string add = "printf '" + std::string(name) + "-password\\n' | " + testutil::BinaryPath("skillweb") +
-                              " --users " + pki_ + "/users --add-user " + name + " --role " + role + " --identity " +
-                              name + " > /dev/null";
-      ASSERT_EQ(std::system(add.c_str()), 0) << add;
-    }
+    testutil::MakeHttpsLogins(pki_, {{"op", "operator"}, {"obs", "observer"}}, true);
   }
   static void TearDownTestSuite() { fs::remove_all(pki_); }
 
@@ -75,13 +71,15 @@ TEST_F(SkillwebSecurityTest, AnOperatorsIdentityStreamsAndCommandsAndNoCredentia
 
 TEST_F(SkillwebSecurityTest, EachLoginIsAParticipantWithItsUsersIdentity) {
   StartServer("sim", pki_ + "/skilld/security.yaml");
-  const testutil::Skillweb web = Start("skillweb_logins", {"--users", pki_ + "/users", "--pki", pki_});
+  std::vector<std::string> args = testutil::HttpsLoginArgs(pki_);
+  args.insert(args.end(), {"--pki", pki_});
+  const testutil::Skillweb web = Start("skillweb_logins", args);
   ASSERT_FALSE(web.url.empty());
 
   PageSession op(web.url), obs(web.url);
-  const httplib::Result op_login = op.Login("op", "op-password");
+  const httplib::Result op_login = op.Login("op", testutil::TestPassword("op"));
   ASSERT_TRUE(op_login && op_login->status == 200) << (op_login ? op_login->body : "") << web.process->Log();
-  const httplib::Result obs_login = obs.Login("obs", "obs-password");
+  const httplib::Result obs_login = obs.Login("obs", testutil::TestPassword("obs"));
   ASSERT_TRUE(obs_login && obs_login->status == 200) << (obs_login ? obs_login->body : "") << web.process->Log();
   // Authenticated identities: the subject's fingerprint, then the participant's own part.
   const std::string op_id = nlohmann::json::parse(op_login->body)["client_id"];

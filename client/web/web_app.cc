@@ -115,6 +115,7 @@ WebApp::WebApp(WebAppOptions options)
     } catch (const std::exception& e) {
       throw InputError(where + "identity " + user.identity + ": " + e.what());
     }
+    if (!security.enabled) throw InputError(where + file + ": security.enabled is not true");
     const std::string error = dds::SecurityFilesError(security, where + file + ":");
     if (!error.empty()) throw InputError(error);
     identities_[name] = file;
@@ -170,7 +171,7 @@ void WebApp::Mount(httplib::Server& server) {
     Refuse(res, 500, what);
   });
 
-  const auto file = [this](std::string path, std::string type) {
+  const auto file = [](std::string path, std::string type) {
     return [path = std::move(path), type = std::move(type)](const httplib::Request&, httplib::Response& res) {
       bool found = false;
       const std::string bytes = ReadFile(path, found);

@@ -98,11 +98,13 @@ Client::Client(const Options& options)
     : id_(options.client_id.empty() ? MakeClientId() : options.client_id),
       options_(options),
       domain_(options.domain_id, options.partition, options.security),
-      requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos),
       states_(domain_, flsd_msgs_RobotState_desc, dds::kStateTopic, dds::kStateQos),
       wake_(domain_),
-      reply_listener_(&Client::OnReplies, this),
-      replies_(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos, &reply_listener_) {
+      reply_listener_(&Client::OnReplies, this) {
+  if (!options.read_only) {
+    requests_.emplace(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos);
+    replies_.emplace(domain_, flsd_msgs_Reply_desc, dds::kReplyTopic, dds::kReplyQos, &reply_listener_);
+  }
   if (domain_.secured()) {
     const std::string identity = domain_.identity();
     if (!options.client_id.empty() && options.client_id != identity) {
@@ -121,14 +123,14 @@ Client::~Client() {
   wake_.Trigger();
   if (background_.joinable()) background_.join();
   if (in_control_) ReleaseControl(std::chrono::milliseconds(500));
-  replies_.RemoveListener();  // before the members its callback uses are destroyed
+  if (replies_) replies_->RemoveListener();  // before the members its callback uses are destroyed
 }
 
 bool Client::WaitForServer(std::chrono::milliseconds timeout) {
   const auto until = std::chrono::steady_clock::now() + timeout;
   while (std::chrono::steady_clock::now() < until) {
     // A round trip proves both directions are matched; until then a reply could be lost.
-    if (requests_.matched_readers() > 0 && replies_.matched_writers() > 0 &&
+    if (requests_ && requests_->matched_readers() > 0 && replies_->matched_writers() > 0 &&
         Call(flsd::CallName(flsd::Call::kStatus), {}, std::chrono::milliseconds(200)).answered) {
       return true;
     }
@@ -149,6 +151,12 @@ CallResult Client::Call(const std::string& call, const CallArgs& args, std::chro
 
 CallResult Client::Send(const std::string& call, const CallArgs& args, std::chrono::milliseconds timeout) {
   const uint64_t request_id = ++next_request_id_;
+  if (!requests_) {
+    CallResult unsent;
+    unsent.request_id = request_id;
+    unsent.message = "not sent: this client reads the state only";
+    return unsent;
+  }
   flsd_msgs_Request request{};
   request.header.client_id = const_cast<char*>(id_.c_str());
   request.header.request_id = request_id;
@@ -166,7 +174,7 @@ CallResult Client::Send(const std::string& call, const CallArgs& args, std::chro
     awaited_result_ = CallResult{};
     reply_ready_ = false;
   }
-  requests_.Write(request);
+  requests_->Write(request);
   // Spin briefly before sleeping: a reply usually comes within a few hundred microseconds, and
   // waking a sleeping thread can cost as much again on a virtual machine.
   const auto start = std::chrono::steady_clock::now();

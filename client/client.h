@@ -68,6 +68,9 @@ class Client {
     // DDS Security (comm/security.h): the client's id is then its participant's authenticated
     // identity, the only one the server accepts from it; client_id must be empty or equal it.
     dds::SecurityConfig security;
+    // Reads the state only: no request writer or reply reader, which DDS Security refuses an
+    // observer's identity; every call comes back unanswered.
+    bool read_only = false;
   };
 
   explicit Client(const Options& options);
@@ -148,11 +151,11 @@ class Client {
   std::atomic<bool> reply_ready_{false};
 
   dds::Domain domain_;
-  dds::Writer<flsd_msgs_Request> requests_;
+  std::optional<dds::Writer<flsd_msgs_Request>> requests_;  // none when read_only
   dds::Reader<flsd_msgs_RobotState> states_;
   dds::Guard wake_;
   dds::DataListener reply_listener_;
-  dds::Reader<flsd_msgs_Reply> replies_;  // last: its listener may fire once it exists
+  std::optional<dds::Reader<flsd_msgs_Reply>> replies_;  // last: its listener may fire once it exists
 
   mutable std::mutex state_mutex_;
   mutable std::condition_variable state_arrived_;

@@ -8,12 +8,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "client/client.h"
+#include "core/config.h"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -135,12 +137,24 @@ bool WaitForTask(const PyTask& t, std::optional<double> timeout) {
   }
 }
 
-std::unique_ptr<Client> Connect(int domain, const std::string& partition, const std::string& client_id, double wait) {
+std::unique_ptr<Client> Connect(int domain, const std::string& partition, const std::string& client_id, double wait,
+                                std::string security) {
   if (domain < 0 || domain > 232) throw py::value_error("domain must be in [0, 232] (DDS), got " + std::to_string(domain));
   Client::Options options;
   options.domain_id = domain;
   options.partition = partition;
   options.client_id = client_id;
+  // As skillctl --security: an identity's security.yaml from scripts/make_pki.sh, or $FLSD_SECURITY.
+  if (security.empty() && std::getenv("FLSD_SECURITY")) security = std::getenv("FLSD_SECURITY");
+  if (!security.empty()) {
+    try {
+      options.security = LoadConfigSection<dds::SecurityConfig>(security, "security");
+    } catch (const std::exception& e) {
+      throw py::value_error("security: " + std::string(e.what()));
+    }
+    const std::string error = dds::SecurityFilesError(options.security, security + ":");
+    if (!error.empty()) throw py::value_error(error);
+  }
   const Millis timeout = ToMillis(wait, "wait");
   auto client = std::make_unique<Client>(options);
   bool found;
@@ -265,7 +279,10 @@ PYBIND11_MODULE(flsd, m) {
                      "A connection to skilld. `with flsd.Client() as robot:` takes control for the block and "
                      "releases it after; leaving it by an exception (Ctrl-C too) stops the robot first.")
       .def(py::init(&Connect), "domain"_a = 0, "partition"_a = "flsd", "client_id"_a = "", "wait"_a = 5.0,
-           "Connects and waits up to `wait` s for a server (TimeoutError if none answers).")
+           "security"_a = "",
+           "Connects and waits up to `wait` s for a server (TimeoutError if none answers). `security`: DDS "
+           "Security, an identity's security.yaml from scripts/make_pki.sh (default: $FLSD_SECURITY); the "
+           "client's id is then its authenticated identity. One identity per Python process (Cyclone's rule).")
       .def_property_readonly("id", &Client::id)
       .def_property_readonly("lost_control", &Client::lost_control)
       .def("list_skills", [](Client& c) {

@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtorch-dev libopenblas0-pthread
   cyclonedds-dev cyclonedds-tools openssl libssl-dev
+  libcpp-httplib-dev
   libfastrtps-dev fastddsgen
   libompl-dev
   libopenmpi-dev openmpi-bin

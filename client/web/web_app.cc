@@ -1,11 +1,19 @@
 #include "client/web/web_app.h"
 
+#include <httplib.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <functional>
 #include <sstream>
 
+#include "client/web/credentials.h"
+#include "client/web/page_agent.h"
 #include "client/web/web_json.h"
-#include "comm/protocol.h"
+#include "core/check.h"
+#include "core/config.h"
 #include "robot/a1.h"
 
 namespace flsd::web {
@@ -13,117 +21,306 @@ namespace {
 
 using nlohmann::json;
 
-// The host part of a Host header ("127.0.0.1:8090" -> "127.0.0.1").
+constexpr char kCookie[] = "skillweb_session";
+constexpr int kStreamsPerSession = 4;  // a page opens one; reloads may overlap for a moment
+
+// The host part of a Host header ("127.0.0.1:8090" -> "127.0.0.1", "[::1]:8090" -> "[::1]").
 std::string HostName(const std::string& host) { return host.substr(0, host.rfind(':')); }
 
-HttpResponse Refused(int status, const std::string& why) {
-  return HttpResponse::Json(status, json{{"ok", false}, {"status", "refused"}, {"message", why}}.dump());
+void Reply(httplib::Response& r, int status, const json& body) {
+  r.status = status;
+  r.set_content(body.dump(), "application/json");
+}
+
+void Refuse(httplib::Response& r, int status, const std::string& why) {
+  Reply(r, status, json{{"ok", false}, {"status", "refused"}, {"message", why}});
+}
+
+std::string CookieValue(const httplib::Request& request, const std::string& name) {
+  std::istringstream cookies(request.get_header_value("Cookie"));
+  std::string pair;
+  while (std::getline(cookies, pair, ';')) {
+    const auto begin = pair.find_first_not_of(' ');
+    if (begin != std::string::npos && pair.compare(begin, name.size() + 1, name + "=") == 0) {
+      return pair.substr(begin + name.size() + 1);
+    }
+  }
+  return "";
+}
+
+std::string UtcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+// One line per event on stderr, whole: the audit trail of what each page did.
+void AuditLine(const httplib::Request& request, const std::string& who, const std::string& what) {
+  std::fprintf(stderr, "skillweb audit: %s from %s: %s: %s\n", UtcNow().c_str(), request.remote_addr.c_str(),
+               who.c_str(), what.c_str());
+}
+
+// `text` fit for one audit line: no control characters (a forged line), at most 300 of them.
+std::string OneLine(std::string text) {
+  if (text.size() > 300) text = text.substr(0, 300) + "...";
+  for (char& c : text) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  }
+  return text;
+}
+
+json SessionJson(const Session& s, bool logins) {
+  const bool op = s.role == Role::kOperator;
+  return {{"logged_in", true},
+          {"user", s.user},
+          {"role", RoleName(s.role)},
+          {"logins", logins},
+          {"client_id", s.link->id()},
+          {"csrf", s.csrf},
+          {"can_command", op},
+          {"reason", op ? "" : "observer: may watch, not command (log in as an operator to command)"}};
+}
+
+std::string ReadFile(const std::string& path, bool& found) {
+  std::ifstream in(path, std::ios::binary);
+  found = static_cast<bool>(in);
+  std::ostringstream bytes;
+  if (found) bytes << in.rdbuf();
+  return bytes.str();
 }
 
 }  // namespace
 
-WebApp::WebApp(Client& client, WebAppOptions options) : client_(client), options_(std::move(options)), feed_(client) {}
-
-HttpResponse WebApp::Handle(const HttpRequest& request) {
-  if (!Trusted(request)) return Refused(403, "request from another site or host name");
-  const std::string& path = request.path;
-  if (request.method == "POST" && path.rfind("/api/", 0) == 0) return Call(path.substr(5), request.body);
-  if (request.method != "GET") return HttpResponse::Text(405, "method not allowed\n");
-  if (path == "/" || path == "/index.html") return File(options_.page_dir + "/index.html", "text/html; charset=utf-8");
-  if (path == "/app.js") return File(options_.page_dir + "/app.js", "text/javascript; charset=utf-8");
-  if (path == "/style.css") return File(options_.page_dir + "/style.css", "text/css; charset=utf-8");
-  if (path == "/a1.urdf") return File(options_.urdf_path, "application/xml");
-  if (path == "/api/events") return Events();
-  if (path == "/api/info") {
-    json info{{"client_id", client_.id()}, {"joint_names", a1::kJointNames}, {"map", nullptr}};
-    if (options_.map) info["map"] = ToJson(*options_.map);
-    return HttpResponse::Json(200, info.dump());
+WebApp::WebApp(WebAppOptions options)
+    : options_(std::move(options)),
+      sessions_(options_.sessions),
+      login_attempts_(5, std::chrono::seconds(10)),           // per remote address
+      commands_(20, std::chrono::milliseconds(200)) {         // per session: bursts of 20, 5 a second
+  if (!options_.users) {
+    open_session_ = std::make_shared<Session>("", Role::kOperator, std::make_unique<LocalPageLink>(options_.client),
+                                              Session::Clock::time_point::max());
+    return;
   }
-  if (path == "/api/skills") {
+  if (options_.pki_dir.empty()) return;
+  for (const auto& [name, user] : *options_.users) {
+    const std::string where = "--users: user " + name + ": ";
+    if (user.identity == "-") throw InputError(where + "with --pki every user needs an identity, not '-'");
+    const std::string file = options_.pki_dir + "/" + user.identity + "/security.yaml";
+    dds::SecurityConfig security;
     try {
-      return HttpResponse::Json(200, ToJson(client_.ListSkills()).dump());
-    } catch (const CallError& e) {
-      return HttpResponse::Json(503, ToJson(e.reply()).dump());
+      security = LoadConfigSection<dds::SecurityConfig>(file, "security");
+    } catch (const std::exception& e) {
+      throw InputError(where + "identity " + user.identity + ": " + e.what());
     }
+    if (!security.enabled) throw InputError(where + file + ": security.enabled is not true");
+    const std::string error = dds::SecurityFilesError(security, where + file + ":");
+    if (!error.empty()) throw InputError(error);
+    identities_[name] = file;
   }
-  return HttpResponse::Text(404, "not found\n");
 }
 
-bool WebApp::Trusted(const HttpRequest& request) const {
-  const std::string host = request.Header("host");
-  if (options_.loopback_only && HostName(host) != "127.0.0.1" && HostName(host) != "localhost") return false;
+WebApp::~WebApp() {
+  stopping_ = true;  // streams end within a second
+  server_.reset();
+}
+
+int WebApp::Listen(const ListenOptions& listen) {
+  tls_ = listen.tls();
+  loopback_ = IsLoopback(listen.host);
+  server_ = std::make_unique<WebServer>(listen, [this](httplib::Server& s) { Mount(s); });
+  return server_->port();
+}
+
+bool WebApp::Trusted(const httplib::Request& request) const {
+  // On loopback, requests must name a loopback host, so that a web site cannot reach skillweb by
+  // pointing a domain name of its own at 127.0.0.1.
+  const std::string host = request.get_header_value("Host");
+  const std::string name = HostName(host);
+  if (loopback_ && name != "127.0.0.1" && name != "localhost" && name != "[::1]") return false;
   if (request.method != "POST") return true;
-  // A cross-site form or fetch cannot send JSON without a CORS preflight, which is never granted.
-  const std::string origin = request.Header("origin");
-  return request.Header("content-type").rfind("application/json", 0) == 0 &&
-         (origin.empty() || origin == "http://" + host);
+  // A cross-site form cannot send JSON, and a cross-site script would need a CORS preflight,
+  // which is never granted; a browser names the origin of every POST.
+  const std::string origin = request.get_header_value("Origin");
+  return request.get_header_value("Content-Type").rfind("application/json", 0) == 0 &&
+         (origin.empty() || origin == (tls_ ? "https://" : "http://") + host);
 }
 
-HttpResponse WebApp::File(const std::string& path, const std::string& content_type) const {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return HttpResponse::Text(404, "missing " + path + "\n");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  HttpResponse r = HttpResponse::Text(200, bytes.str());
-  r.content_type = content_type;
-  return r;
+std::shared_ptr<Session> WebApp::Find(const httplib::Request& request) {
+  if (open_session_) return open_session_;
+  const std::string token = CookieValue(request, kCookie);
+  return token.empty() ? nullptr : sessions_.Find(token);
 }
 
-HttpResponse WebApp::Events() const {
-  HttpResponse r;
-  r.content_type = "text/event-stream";
-  r.stream = [this](HttpStream& out) {
-    uint64_t seen = 0;
-    while (out.open()) {
-      const std::string event = feed_.Next(seen, seen, std::chrono::milliseconds(1000));
-      // A comment line while no state comes keeps proxies from closing the stream and tells
-      // this thread when the page has gone.
-      if (!out.Write(event.empty() ? std::string(":\n\n") : event)) return;
+void WebApp::Mount(httplib::Server& server) {
+  server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    if (Trusted(req)) return httplib::Server::HandlerResponse::Unhandled;
+    Refuse(res, 403, "request from another site or host name");
+    return httplib::Server::HandlerResponse::Handled;
+  });
+  server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr error) {
+    std::string what = "unknown error";
+    try {
+      std::rethrow_exception(error);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
     }
+    Refuse(res, 500, what);
+  });
+
+  const auto file = [](std::string path, std::string type) {
+    return [path = std::move(path), type = std::move(type)](const httplib::Request&, httplib::Response& res) {
+      bool found = false;
+      const std::string bytes = ReadFile(path, found);
+      if (!found) return Refuse(res, 404, "missing " + path);
+      res.set_content(bytes, type);
+    };
   };
-  return r;
+  const std::string page = options_.page_dir;
+  server.Get("/", file(page + "/index.html", "text/html; charset=utf-8"));
+  server.Get("/index.html", file(page + "/index.html", "text/html; charset=utf-8"));
+  server.Get("/app.js", file(page + "/app.js", "text/javascript; charset=utf-8"));
+  server.Get("/style.css", file(page + "/style.css", "text/css; charset=utf-8"));
+  server.Get("/a1.urdf", file(options_.urdf_path, "application/xml"));
+
+  // The routes below need a session: with logins, the cookie of one.
+  const auto with_session = [this](std::function<void(const std::shared_ptr<Session>&, httplib::Response&)> route) {
+    return [this, route = std::move(route)](const httplib::Request& req, httplib::Response& res) {
+      const std::shared_ptr<Session> session = Find(req);
+      if (!session) return Reply(res, 401, json{{"ok", false}, {"status", "login required"}, {"logins", true}});
+      route(session, res);
+    };
+  };
+  server.Post("/api/login", [this](const httplib::Request& req, httplib::Response& res) { Login(req, res); });
+  server.Post("/api/logout", [this](const httplib::Request& req, httplib::Response& res) { Logout(req, res); });
+  // Not logged in is an answer here, not an error: the page shows its login form.
+  server.Get("/api/session", [this](const httplib::Request& req, httplib::Response& res) {
+    const std::shared_ptr<Session> session = Find(req);
+    Reply(res, 200, session ? SessionJson(*session, options_.users.has_value()) : json{{"logged_in", false}, {"logins", true}});
+  });
+  server.Get("/api/info", with_session([this](const std::shared_ptr<Session>& s, httplib::Response& res) {
+               json info{{"client_id", s->link->id()}, {"joint_names", a1::kJointNames}, {"map", nullptr}};
+               if (options_.map) info["map"] = ToJson(*options_.map);
+               Reply(res, 200, info);
+             }));
+  server.Get("/api/skills", with_session([](const std::shared_ptr<Session>& s, httplib::Response& res) {
+               int status = 200;
+               const json skills = s->link->Skills(status);
+               Reply(res, status, skills);
+             }));
+  server.Get("/api/events", with_session([this](const std::shared_ptr<Session>& s, httplib::Response& res) {
+               Events(s, res);
+             }));
+  server.Post(R"(/api/([a-z_]+))", [this](const httplib::Request& req, httplib::Response& res) { Command(req, res); });
 }
 
-HttpResponse WebApp::Call(const std::string& name, const std::string& body) {
-  const std::optional<flsd::Call> call = FindCall(name);
-  std::function<Reply()> make;
-  try {
-    const json args = body.empty() ? json::object() : json::parse(body);
-    if (!args.is_object()) return Refused(400, "the body is not a JSON object");
-    const auto number = [&](const char* key) { return args.value(key, 0.0); };
-    switch (call.value_or(flsd::Call::kStatus)) {
-      case flsd::Call::kDamp: make = [this] { return client_.Damp(); }; break;
-      case flsd::Call::kClearStop: make = [this] { return client_.ClearStop(); }; break;
-      case flsd::Call::kReleaseControl: make = [this] { return client_.ReleaseControl(); }; break;
-      case flsd::Call::kStand: make = [this] { return client_.Stand(); }; break;
-      case flsd::Call::kStop: make = [this] { return client_.Stop(); }; break;
-      case flsd::Call::kReset: make = [this] { return client_.Reset(); }; break;
-      case flsd::Call::kExecuteSkill: {
-        const int skill = args.at("skill").get<int>();
-        const double duration = number("duration");
-        make = [this, skill, duration] { return client_.ExecuteSkill(skill, duration).reply(); };
-        break;
-      }
-      case flsd::Call::kTrackVelocity: {
-        const double vx = number("vx"), vy = number("vy"), wz = number("wz"), duration = number("duration");
-        make = [=] { return client_.TrackVelocity(vx, vy, wz, duration).reply(); };
-        break;
-      }
-      case flsd::Call::kNavigate: {
-        const double x = args.at("x").get<double>(), y = args.at("y").get<double>();
-        make = [this, x, y] { return client_.Navigate(x, y).reply(); };
-        break;
-      }
-      default:  // the lease is skillweb's to keep; skills and status have routes of their own
-        return Refused(404, "not a call the page makes: " + name);
-    }
-  } catch (const json::exception& e) {
-    return Refused(400, std::string("bad arguments: ") + e.what());
+void WebApp::Login(const httplib::Request& request, httplib::Response& response) {
+  if (!options_.users) return Refuse(response, 404, "this skillweb has no logins (no --users): its page is open");
+  if (!login_attempts_.Allow(request.remote_addr)) {
+    return Refuse(response, 429, "too many login attempts from this address: wait a little");
   }
-  // Like any client: take the lease (or keep it) before a call that needs it.
-  Reply reply = Spec(*call).needs_control ? client_.AcquireControl() : Reply{};
-  if (!Spec(*call).needs_control || reply.ok()) reply = make();
-  return HttpResponse::Json(200, ToJson(reply).dump());
+  std::string name, password;
+  try {
+    const json body = json::parse(request.body);
+    name = body.at("name").get<std::string>();
+    password = body.at("password").get<std::string>();
+  } catch (const json::exception&) {
+    return Refuse(response, 400, "expected {\"name\": ..., \"password\": ...}");
+  }
+  const auto user = options_.users->find(name);
+  // An unknown name costs the same hash as a known one: the answer's time tells nothing.
+  static const std::string kNobody = HashPassword("");
+  const bool verified = VerifyPassword(password, user == options_.users->end() ? kNobody : user->second.password_hash);
+  if (user == options_.users->end() || !verified) {
+    AuditLine(request, "login", "refused for user '" + OneLine(name) + "'");
+    return Refuse(response, 401, "wrong user name or password");
+  }
+  std::shared_ptr<Session> session;
+  try {
+    session = sessions_.Open(user->second, Connect(user->second));
+  } catch (const std::exception& e) {
+    return Refuse(response, 503, std::string("cannot connect this page to skilld: ") + e.what());
+  }
+  if (!session) return Refuse(response, 503, "too many open sessions: log out elsewhere, or wait for one to expire");
+  AuditLine(request, session->Describe(), "logged in");
+  const auto lifetime = std::chrono::duration_cast<std::chrono::seconds>(sessions_.limits().lifetime).count();
+  response.set_header("Set-Cookie", std::string(kCookie) + "=" + session->token + "; Path=/; Max-Age=" +
+                                        std::to_string(lifetime) + "; HttpOnly; SameSite=Strict" +
+                                        (tls_ ? "; Secure" : ""));
+  Reply(response, 200, SessionJson(*session, true));
+}
+
+std::unique_ptr<PageLink> WebApp::Connect(const User& user) const {
+  const bool observer = user.role == Role::kObserver;  // its client makes no calls
+  const auto identity = identities_.find(user.name);
+  if (identity == identities_.end()) {
+    Client::Options client = options_.client;
+    client.read_only = observer;
+    return std::make_unique<LocalPageLink>(client);
+  }
+  return std::make_unique<AgentPageLink>(AgentOptions{options_.agent_program, options_.client.domain_id,
+                                                      options_.client.partition, identity->second, observer});
+}
+
+void WebApp::Logout(const httplib::Request& request, httplib::Response& response) {
+  const std::shared_ptr<Session> session = Find(request);
+  if (!session || session == open_session_) return Refuse(response, 401, "not logged in");
+  if (!SameSecret(request.get_header_value("X-CSRF-Token"), session->csrf)) {
+    return Refuse(response, 403, "missing or wrong CSRF token (X-CSRF-Token)");
+  }
+  AuditLine(request, session->Describe(), "logged out");
+  sessions_.Close(session->token);
+  response.set_header("Set-Cookie", std::string(kCookie) + "=; Path=/; Max-Age=0; HttpOnly; SameSite=Strict" +
+                                        (tls_ ? "; Secure" : ""));
+  Reply(response, 200, json{{"ok", true}, {"status", "logged out"}});
+}
+
+void WebApp::Events(const std::shared_ptr<Session>& session, httplib::Response& response) {
+  if (++session->streams > kStreamsPerSession) {
+    --session->streams;
+    return Refuse(response, 429, "too many open streams for this session");
+  }
+  auto seen = std::make_shared<uint64_t>(0);
+  response.set_chunked_content_provider(
+      "text/event-stream",
+      [this, session, seen](std::size_t, httplib::DataSink& sink) {
+        if (stopping_ || !session->open) {  // the stream's proper end, which the page reads as such
+          sink.done();
+          return true;
+        }
+        const std::string event = session->link->NextEvent(*seen, *seen, std::chrono::milliseconds(1000));
+        session->Touch();
+        // A comment line while no state comes keeps proxies from closing the stream and tells
+        // this thread when the page has gone.
+        const std::string bytes = event.empty() ? std::string(":\n\n") : event;
+        return sink.write(bytes.data(), bytes.size());
+      },
+      [session](bool) { --session->streams; });
+}
+
+void WebApp::Command(const httplib::Request& request, httplib::Response& response) {
+  const std::string name = request.matches[1];
+  const std::shared_ptr<Session> session = Find(request);
+  if (!session) return Refuse(response, 401, "log in first");
+  if (!SameSecret(request.get_header_value("X-CSRF-Token"), session->csrf)) {
+    AuditLine(request, session->Describe(), name + " -> refused: missing or wrong CSRF token");
+    return Refuse(response, 403, "missing or wrong CSRF token (X-CSRF-Token)");
+  }
+  // A flood is refused without a line each.
+  if (!commands_.Allow(session->token)) return Refuse(response, 429, "too many commands from this page: slow down");
+  if (session->role != Role::kOperator) {
+    AuditLine(request, session->Describe(), name + " -> refused: an observer does not command");
+    return Refuse(response, 403, "observer: may watch, not command");
+  }
+  int status = 200;
+  json reply = session->link->Command(name, request.body, status);
+  AuditLine(request, session->Describe(),
+            name + " " + OneLine(request.body.empty() ? "{}" : request.body) + " -> " + OneLine(reply["audit"]));
+  reply.erase("audit");
+  Reply(response, status, reply);
 }
 
 }  // namespace flsd::web

@@ -27,15 +27,15 @@ class Server:
         return ["--domain", str(self.domain), "--partition", self.partition]
 
 
-@pytest.fixture
-def server(request, tmp_path):
+def start_skilld(request, tmp_path, config):
+    """skilld with `config`, until the test ends; it must exit cleanly."""
     domain = 100 + os.getpid() % 130
     partition = f"pytest-{os.getpid()}-{request.node.name}"
     log = tmp_path / "skilld.log"
     with open(log, "w") as out:
         process = subprocess.Popen(
             [str(BIN_DIR / "skilld"), "--backend", "sim", "--library", str(SOURCE_DIR / "models/a1_flsd.safetensors"),
-             "--config", str(SOURCE_DIR / "configs/server.yaml"), "--domain", str(domain), "--partition", partition],
+             "--config", str(config), "--domain", str(domain), "--partition", partition],
             stdout=out, stderr=subprocess.STDOUT)
     try:
         yield Server(domain, partition, log)
@@ -43,6 +43,26 @@ def server(request, tmp_path):
         process.terminate()
         code = process.wait(timeout=20)
         assert code == 0, f"skilld exited with {code}:\n{log.read_text()}"
+
+
+@pytest.fixture
+def server(request, tmp_path):
+    yield from start_skilld(request, tmp_path, SOURCE_DIR / "configs/server.yaml")
+
+
+@pytest.fixture
+def pki(tmp_path):
+    """A deployment's PKI from scripts/make_pki.sh: identities skilld, operator op and observer obs."""
+    folder = tmp_path / "pki"
+    subprocess.run(["bash", str(SOURCE_DIR / "scripts/make_pki.sh"), str(folder), "--operators", "op", "--observers", "obs"],
+                   check=True, stdout=subprocess.DEVNULL)
+    return folder
+
+
+@pytest.fixture
+def secured_server(request, tmp_path, pki):
+    """skilld with DDS Security on, as pki's identity skilld."""
+    yield from start_skilld(request, tmp_path, pki / "skilld" / "security.yaml")
 
 
 @pytest.fixture

@@ -3,6 +3,7 @@ client, tasks waited on to their result, refusals raised with their reply, contr
 released by `with`, Ctrl-C stopping the robot, and the examples run as a user runs them."""
 import json
 import os
+import re
 import signal
 import subprocess
 import threading
@@ -44,6 +45,37 @@ def test_without_a_server_the_client_raises_timeout_error():
         flsd.Client(domain=231, partition="nobody", wait=float("nan"))
     with pytest.raises(ValueError, match=r"domain must be in \[0, 232\] \(DDS\), got 233"):
         flsd.Client(domain=233)
+
+
+def test_a_security_file_that_does_not_load_is_a_value_error_naming_it(tmp_path):
+    missing = tmp_path / "missing.yaml"
+    with pytest.raises(ValueError, match=f"security: .*{missing}"):
+        flsd.Client(domain=231, partition="nobody", wait=0.3, security=str(missing))
+
+
+def test_an_operators_identity_commands_a_secured_skilld_and_none_is_not_answered(secured_server, pki, python):
+    # Each in a process of its own: Cyclone keeps one security configuration per process.
+    script = ("import sys, flsd\n"
+              "try:\n"
+              "    c = flsd.Client(domain=int(sys.argv[1]), partition=sys.argv[2], security=sys.argv[3], wait=float(sys.argv[4]))\n"
+              "    print(c.id)\n"
+              "    c.acquire_control()\n"
+              "    print(c.stand())\n"
+              "except TimeoutError as e:\n"
+              "    print('timeout:', e)\n")
+    run = lambda security, wait: subprocess.run(
+        [python, "-c", script, str(secured_server.domain), secured_server.partition, security, str(wait)],
+        capture_output=True, text=True, timeout=120)
+    operator = run(str(pki / "op" / "security.yaml"), 30)
+    lines = operator.stdout.splitlines()
+    assert operator.returncode == 0 and len(lines) == 2, operator.stdout + operator.stderr
+    # The client's id is its authenticated identity: the subject's fingerprint, then its own part.
+    assert re.fullmatch(r"[0-9a-f]{12}-[0-9a-f]{12}", lines[0]), lines
+    assert lines[1].startswith("ok: "), lines
+    assert f"identity {lines[0]}" in secured_server.log.read_text()
+    # Without credentials, a secured skilld never answers.
+    stranger = run("", 3)
+    assert stranger.stdout.startswith("timeout: no skilld answers"), stranger.stdout + stranger.stderr
 
 
 def test_skills_match_what_skillctl_lists(server):

@@ -1,5 +1,6 @@
 // skillweb's page: the state stream drives the 3D view, the status, the map and the plots; the
-// buttons post calls to skillweb, which makes them to skilld with the control lease.
+// buttons post calls to skillweb, which makes them to skilld with this page's control lease.
+// With logins the page first asks for one; an observer's controls are disabled, saying why.
 import { MapView } from './map_view.js';
 import { RollingPlot } from './plots.js';
 import { RobotView } from './robot_view.js';
@@ -13,18 +14,32 @@ async function getJson(path) {
   return r.json();
 }
 
+// This page's session: its user, role and CSRF token; null until logged in.
+let session = null;
+let leaving = false;  // logged out: the page reloads itself
+
+// POSTs JSON to skillweb; the CSRF token goes with it, as skillweb requires of a command.
+function post(path, args) {
+  return fetch(path, {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json', 'X-CSRF-Token': session?.csrf ?? '' },
+    body: JSON.stringify(args),
+  });
+}
+
+// The session, or null when skillweb wants a login first.
+async function fetchSession() {
+  const s = await getJson('/api/session');
+  return s.logged_in ? s : null;
+}
+
 // A call to skilld through skillweb; the reply's status and message go under the controls.
 async function call(name, args = {}) {
   const out = $('reply');
   out.textContent = `${name}…`;
   out.className = 'reply';
   try {
-    const r = await fetch(`/api/${name}`, {
-      method: 'POST',
-      headers: { 'Content-Type': 'application/json' },
-      body: JSON.stringify(args),
-    });
-    const reply = await r.json();
+    const reply = await (await post(`/api/${name}`, args)).json();
     out.textContent = `${name}: ${reply.status}${reply.message ? ` – ${reply.message}` : ''}`;
     if (!reply.ok) out.className = 'reply refused';
   } catch (e) {
@@ -70,16 +85,57 @@ function showStatus(s, clientId) {
   $('fault').textContent = `Safety stop: ${s.fault_message}`;
 }
 
+// Who this page is in the header; an observer's controls disabled, with the reason.
+function showSession() {
+  $('who').hidden = $('logout').hidden = !session.logins;
+  $('who').textContent = `${session.user} · ${session.role}`;
+  $('logout').onclick = async () => {
+    leaving = true;
+    await post('/api/logout', {});
+    location.reload();
+  };
+  if (session.can_command) return;
+  for (const control of document.querySelectorAll('main button:not(#logout), #damp')) {
+    control.disabled = true;
+    control.title = session.reason;
+  }
+  $('role-note').hidden = false;
+  $('role-note').textContent = session.reason;
+}
+
+// The login form; the page starts once skillweb has opened a session.
+function askLogin() {
+  $('login').hidden = false;
+  $('login').onsubmit = async (e) => {
+    e.preventDefault();
+    const r = await post('/api/login', { name: $('login-name').value, password: $('login-password').value });
+    const reply = await r.json();
+    if (!r.ok) {
+      $('login-reply').textContent = reply.message;
+      return;
+    }
+    session = reply;
+    $('login').hidden = true;
+    await start();
+  };
+}
+
 async function start() {
+  $('login').hidden = true;
+  document.querySelector('main').hidden = false;
+  showSession();
   const [info, urdf] = await Promise.all([getJson('/api/info'), fetch('/a1.urdf').then((r) => r.text())]);
-  getJson('/api/skills').then(fillSkills).catch(() => ($('reply').textContent = 'skills: no answer from skilld'));
+  // An observer's client makes no calls to skilld, not even for the skills.
+  if (session.can_command) {
+    getJson('/api/skills').then(fillSkills).catch(() => ($('reply').textContent = 'skills: no answer from skilld'));
+  }
 
   const view = new RobotView($('scene'), urdf);
-  const map = new MapView($('map'), info.map, (x, y) => call('navigate', { x, y }));
+  const map = new MapView($('map'), info.map, (x, y) => (session.can_command ? call('navigate', { x, y }) : null));
   const axes = [['vx', '#dc2626'], ['vy', '#16a34a'], ['wz', '#2563eb']];
   const velocity = new RollingPlot($('velocity-plot'), { colors: axes.map(([, c]) => c), legend: axes });
   const joints = new RollingPlot($('joint-plot'), { colors: info.joint_names.map((_, i) => LEGS[Math.floor(i / 3)][1]), legend: LEGS });
-  const page = { view, info, state: null, received: 0, delays: [] };
+  const page = { view, info, session, state: null, received: 0, delays: [] };
   window.skillweb = page;  // for the browser tests and the benchmark: the scene, the newest sample, delays
 
   $('damp').onclick = () => call('damp');
@@ -112,6 +168,8 @@ async function start() {
   events.onerror = () => {
     $('link').textContent = 'reconnecting';
     $('link').className = 'badge off';
+    // A session that ended (logout elsewhere, expiry) needs a new login, not a reconnection.
+    if (!leaving) fetchSession().then((s) => s || location.reload()).catch(() => {});
   };
   // Text and 2-D drawings at the screen's rate, not the stream's.
   const draw = () => {
@@ -133,7 +191,12 @@ async function start() {
   page.ready = true;
 }
 
-start().catch((e) => {
+async function boot() {
+  session = await fetchSession();
+  return session ? start() : askLogin();
+}
+
+boot().catch((e) => {
   $('reply').textContent = `skillweb: ${e.message}`;
   throw e;
 });

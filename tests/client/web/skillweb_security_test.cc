@@ -1,16 +1,22 @@
-// skillweb against skilld with DDS Security on: with an operator's identity (--security) the page's
-// stream has the state and its calls move the robot; without credentials it has neither. The test
-// speaks HTTP only and makes no DDS entity: Cyclone keeps one security configuration per process.
+// skillweb against skilld with DDS Security on. The open page (no logins) with an operator's
+// identity (--security) streams the state and commands; without credentials it does neither.
+// With logins, HTTPS and --pki, one skillweb serves a page per login, each a participant with its
+// user's identity (in a page agent process: Cyclone keeps one identity per process): the
+// operator's page commands, the observer's streams the state and cannot command. The test
+// speaks HTTP(S) only and makes no DDS entity: Cyclone keeps one security configuration per process.
 
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <regex>
 #include <string>
 #include <thread>
 
-#include "tests/client/web/http_exchange.h"
+#include <nlohmann/json.hpp>
+
+#include "tests/client/web/page_session.h"
 #include "tests/client/web/skillweb_process.h"
 #include "tests/common/skilld_fixture.h"
 
@@ -18,15 +24,16 @@ namespace flsd {
 namespace {
 
 namespace fs = std::filesystem;
-using testutil::HttpExchange;
+using testutil::PageSession;
 using testutil::UniqueTempPath;
 
 class SkillwebSecurityTest : public testutil::SkilldFixture {
  protected:
   static void SetUpTestSuite() {
     pki_ = (fs::temp_directory_path() / ("flsd_web_pki_" + std::to_string(getpid()))).string();
-    const std::string make = "bash " FLSD_SOURCE_DIR "/scripts/make_pki.sh " + pki_ + " --operators op --observers '' > /dev/null";
+    const std::string make = "bash " FLSD_SOURCE_DIR "/scripts/make_pki.sh " + pki_ + " --operators op --observers obs > /dev/null";
     ASSERT_EQ(std::system(make.c_str()), 0);
+    testutil::MakeHttpsLogins(pki_, {{"op", "operator"}, {"obs", "observer"}}, true);
   }
   static void TearDownTestSuite() { fs::remove_all(pki_); }
 
@@ -36,16 +43,11 @@ class SkillwebSecurityTest : public testutil::SkilldFixture {
     return testutil::StartSkillweb(args, UniqueTempPath(tag + ".log"));
   }
 
-  static std::string Post(int port, const std::string& call) {
-    return HttpExchange(port, "POST /api/" + call + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
-                                                    "Content-Length: 2\r\n\r\n{}");
-  }
-
-  // The first state event on the stream, or "" if none comes within `timeout`.
-  static std::string FirstEvent(int port, std::chrono::seconds timeout) {
-    const std::string events = HttpExchange(port, "GET /api/events HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n", "data: {",
-                                            std::chrono::duration_cast<std::chrono::milliseconds>(timeout));
-    return events.find("data: {") == std::string::npos ? "" : events;
+  // The first state event the page gets; the security handshake takes a moment: up to 20 s.
+  static std::string AwaitEvent(PageSession& page) {
+    std::string event;
+    for (int i = 0; i < 20 && event.empty(); ++i) event = page.FirstEvent(std::chrono::seconds(1));
+    return event;
   }
 
   static inline std::string pki_;
@@ -57,14 +59,45 @@ TEST_F(SkillwebSecurityTest, AnOperatorsIdentityStreamsAndCommandsAndNoCredentia
   const testutil::Skillweb none = Start("skillweb_none", {});
   ASSERT_FALSE(op.url.empty() || none.url.empty());
 
-  // The security handshake takes a moment: wait for the operator's stream, up to 20 s.
-  std::string event;
-  for (int i = 0; i < 20 && event.empty(); ++i) event = FirstEvent(op.port, std::chrono::seconds(1));
-  EXPECT_NE(event.find("\"backend\":\"sim\""), std::string::npos) << op.process->Log() << server_->Log();
-  EXPECT_NE(Post(op.port, "stand").find("\"ok\":true"), std::string::npos);
+  PageSession op_page(op.url), none_page(none.url);
+  ASSERT_EQ(op_page.Session()->status, 200);
+  ASSERT_EQ(none_page.Session()->status, 200);
+  EXPECT_NE(AwaitEvent(op_page).find("\"backend\":\"sim\""), std::string::npos) << op.process->Log() << server_->Log();
+  EXPECT_NE(op_page.Command("stand")->body.find("\"ok\":true"), std::string::npos);
 
-  EXPECT_EQ(FirstEvent(none.port, std::chrono::seconds(2)), "");
-  EXPECT_NE(Post(none.port, "stand").find("\"status\":\"no reply\""), std::string::npos);
+  EXPECT_EQ(none_page.FirstEvent(std::chrono::seconds(2)), "");
+  EXPECT_NE(none_page.Command("stand")->body.find("\"status\":\"no reply\""), std::string::npos);
+}
+
+TEST_F(SkillwebSecurityTest, EachLoginIsAParticipantWithItsUsersIdentity) {
+  StartServer("sim", pki_ + "/skilld/security.yaml");
+  std::vector<std::string> args = testutil::HttpsLoginArgs(pki_);
+  args.insert(args.end(), {"--pki", pki_});
+  const testutil::Skillweb web = Start("skillweb_logins", args);
+  ASSERT_FALSE(web.url.empty());
+
+  PageSession op(web.url), obs(web.url);
+  const httplib::Result op_login = op.Login("op", testutil::TestPassword("op"));
+  ASSERT_TRUE(op_login && op_login->status == 200) << (op_login ? op_login->body : "") << web.process->Log();
+  const httplib::Result obs_login = obs.Login("obs", testutil::TestPassword("obs"));
+  ASSERT_TRUE(obs_login && obs_login->status == 200) << (obs_login ? obs_login->body : "") << web.process->Log();
+  // Authenticated identities: the subject's fingerprint, then the participant's own part.
+  const std::string op_id = nlohmann::json::parse(op_login->body)["client_id"];
+  const std::string obs_id = nlohmann::json::parse(obs_login->body)["client_id"];
+  EXPECT_TRUE(std::regex_match(op_id, std::regex("[0-9a-f]{12}-[0-9a-f]{12}"))) << op_id;
+  EXPECT_NE(op_id.substr(0, 12), obs_id.substr(0, 12)) << "two users, one certificate subject";
+
+  EXPECT_NE(AwaitEvent(op).find("\"backend\":\"sim\""), std::string::npos) << web.process->Log() << server_->Log();
+  EXPECT_NE(AwaitEvent(obs).find("\"backend\":\"sim\""), std::string::npos) << web.process->Log();
+  nlohmann::json stand;
+  for (int i = 0; i < 20 && stand["ok"] != true; ++i) {
+    stand = nlohmann::json::parse(op.Command("stand")->body);
+    if (stand["ok"] != true) std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  EXPECT_EQ(stand["ok"], true) << stand.dump() << server_->Log();
+  EXPECT_EQ(obs.Command("stand")->status, 403);
+  // skilld's own audit names the operator's page by its identity.
+  EXPECT_NE(server_->Log().find("identity " + op_id), std::string::npos) << server_->Log();
 }
 
 }  // namespace

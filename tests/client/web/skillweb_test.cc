@@ -1,11 +1,13 @@
-// skillweb end to end: a real skilld on loopback, skillweb in front of it, and its page in headless
-// Chromium driven by drive_page.cjs like a user on a phone. The test records the state topic with
-// a client of its own and checks what the page showed and did against it.
+// skillweb end to end: a real skilld on loopback, skillweb in front of it over HTTPS with logins,
+// and its page in headless Chromium driven by drive_page.cjs like users on phones: an operator, a
+// second operator and an observer. The test records the state topic with a client of its own and
+// checks what the pages showed and did against it.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -69,20 +71,60 @@ TEST_F(SkillwebTest, PageFollowsTheStateTopicRunsASkillAndDamps) {
   StartServer();
   const auto client = Connect();
   StateRecorder recorder(*client);
-  const testutil::Skillweb web = testutil::StartSkillweb(
-      {"--domain", std::to_string(domain_), "--partition", partition_}, UniqueTempPath("skillweb.log"));
+  const std::string dir = UniqueTempPath("logins");
+  std::filesystem::create_directories(dir);
+  testutil::MakeHttpsLogins(dir, {{"alice", "operator"}, {"bob", "operator"}, {"carol", "observer"}});
+  std::vector<std::string> web_args = {"--domain", std::to_string(domain_), "--partition", partition_};
+  for (const std::string& a : testutil::HttpsLoginArgs(dir)) web_args.push_back(a);
+  const testutil::Skillweb web = testutil::StartSkillweb(web_args, UniqueTempPath("skillweb.log"));
   const std::string& url = web.url;
-  ASSERT_FALSE(url.empty());
+  ASSERT_EQ(url.rfind("https://", 0), 0u) << url;
+  const auto login = [](const std::string& name) { return nlohmann::json{name, testutil::TestPassword(name)}; };
+  std::ofstream(dir + "/users.json") << nlohmann::json{{"operator", login("alice")},
+                                                       {"second_operator", login("bob")},
+                                                       {"observer", login("carol")}};
 
   // SKILLWEB_SCREENSHOT=path: the page while the skill runs, as docs/skillweb.png was taken.
-  std::vector<std::string> args = {FLSD_SOURCE_DIR "/tests/client/web/drive_page.cjs", url, FLSD_CHROMIUM};
+  std::vector<std::string> args = {FLSD_SOURCE_DIR "/tests/client/web/drive_page.cjs", url, FLSD_CHROMIUM,
+                                   dir + "/users.json"};
   if (const char* shot = std::getenv("SKILLWEB_SCREENSHOT")) args.push_back(shot);
   setenv("NODE_PATH", FLSD_NODE_MODULES, 1);
   const auto [code, output] = RunProgram(FLSD_NODE, args, UniqueTempPath("drive_page.log"), std::chrono::seconds(120));
   ASSERT_EQ(code, 0) << output << "\nskillweb: " << web.process->Log() << "\nskilld: " << server_->Log();
   const nlohmann::json seen = nlohmann::json::parse(output.substr(output.rfind("\n{") + 1));
 
+  std::filesystem::remove_all(dir);
   EXPECT_TRUE(seen["console_errors"].empty()) << seen["console_errors"].dump(1);
+  EXPECT_EQ(seen["wrong_login"]["reply"], "wrong user name or password");
+  EXPECT_EQ(seen["wrong_login"]["main_hidden"], true);
+  EXPECT_EQ(seen["operator"]["who"], "alice · operator");
+  EXPECT_EQ(seen["operator"]["stand_disabled"], false);
+
+  // Two pages, two clients, two leases: the second operator's stand is refused while the first
+  // page holds control, and the state topic names the first page's client as the holder.
+  const std::string first_id = seen["operator"]["client_id"], second_id = seen["second_operator"]["client_id"];
+  EXPECT_NE(first_id, second_id);
+  EXPECT_EQ(seen["second_operator"]["controller"], first_id);
+  EXPECT_EQ(seen["second_operator"]["reply"].get<std::string>().rfind("stand: not in control", 0), 0u)
+      << seen["second_operator"]["reply"];
+  EXPECT_NE(seen["second_operator"]["reply"].get<std::string>().find(first_id), std::string::npos);
+  EXPECT_EQ(seen["second_operator"]["logged_out"], true);
+  EXPECT_EQ(seen["reopened"]["login_hidden"], true);  // the session outlives its page
+  EXPECT_EQ(seen["reopened"]["client_id"], first_id);
+
+  // The observer's page follows the robot, and every control is disabled, saying why.
+  EXPECT_GT(seen["observer"]["tick"].get<uint64_t>(), 0u);
+  EXPECT_EQ(seen["observer"]["who"], "carol · observer");
+  const std::string why = "observer: may watch, not command (log in as an operator to command)";
+  EXPECT_EQ(seen["observer"]["note"], why);
+  for (const auto& control : seen["observer"]["controls"]) {
+    EXPECT_EQ(control["disabled"], true) << control["id"];
+    EXPECT_EQ(control["title"], why) << control["id"];
+  }
+  EXPECT_TRUE(seen["observer"]["posts"].empty()) << seen["observer"]["posts"].dump();
+  const std::string log = web.process->Log();
+  EXPECT_NE(log.find("alice (operator, client " + first_id + "): stand {} -> ok: "), std::string::npos) << log;
+  EXPECT_NE(log.find("bob (operator, client " + second_id + "): stand {} -> not in control: "), std::string::npos) << log;
   EXPECT_FALSE(seen["phone"]["overflow"].get<bool>()) << "the page is wider than a phone's screen";
   EXPECT_TRUE(seen["phone"]["estop_visible"].get<bool>());
 

@@ -1,0 +1,19 @@
+#pragma once
+// What a long-running process holds, read from /proc: for soak runs that look for leaks.
+
+#include <sys/types.h>
+
+#include <optional>
+
+namespace flsd {
+
+struct ProcessSample {
+  double rss_mb = 0.0;  // resident set, MiB
+  int threads = 0;
+  int fds = 0;  // open file descriptors
+};
+
+// nullopt once the process is gone.
+std::optional<ProcessSample> SampleProcess(pid_t pid);
+
+}  // namespace flsd

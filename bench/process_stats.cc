@@ -13,7 +13,10 @@ std::optional<ProcessSample> SampleProcess(pid_t pid) {
   if (!status) return std::nullopt;
   ProcessSample s;
   for (std::string line; std::getline(status, line);) {
-    if (line.rfind("VmRSS:", 0) == 0) s.rss_mb = std::stod(line.substr(6)) / 1024.0;  // "VmRSS:  1234 kB"
+    // "VmRSS:  1234 kB"
+    if (line.rfind("VmRSS:", 0) == 0) s.rss_mb = std::stod(line.substr(6)) / 1024.0;
+    if (line.rfind("RssAnon:", 0) == 0) s.rss_anon_mb = std::stod(line.substr(8)) / 1024.0;
+    if (line.rfind("RssFile:", 0) == 0) s.rss_file_mb = std::stod(line.substr(8)) / 1024.0;
     if (line.rfind("Threads:", 0) == 0) s.threads = std::stoi(line.substr(8));
   }
   std::error_code error;

@@ -8,7 +8,9 @@
 namespace flsd {
 
 struct ProcessSample {
-  double rss_mb = 0.0;  // resident set, MiB
+  double rss_mb = 0.0;       // resident set, MiB
+  double rss_anon_mb = 0.0;  // of which anonymous (heap, stacks): what a leak grows
+  double rss_file_mb = 0.0;  // of which file-backed (code and data of the binary and libraries, paged in as used)
   int threads = 0;
   int fds = 0;  // open file descriptors
 };

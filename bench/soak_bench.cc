@@ -106,7 +106,7 @@ struct Sample {
 // skilld's resources from the first minute (or the second half of a shorter run) on.
 nlohmann::json Resources(const std::vector<Sample>& samples, double run_seconds) {
   const double from = std::min(kWarmUpSeconds, run_seconds / 2);
-  std::vector<double> t, rss;
+  std::vector<double> t, rss, anon;
   nlohmann::json series = nlohmann::json::array();
   double next_series = 0.0;
   for (const Sample& s : samples) {
@@ -117,6 +117,7 @@ nlohmann::json Resources(const std::vector<Sample>& samples, double run_seconds)
     if (s.t < from) continue;
     t.push_back(s.t);
     rss.push_back(s.process.rss_mb);
+    anon.push_back(s.process.rss_anon_mb);
   }
   const auto first = std::find_if(samples.begin(), samples.end(), [&](const Sample& s) { return s.t >= from; });
   if (first == samples.end()) return {{"error", "no sample after " + std::to_string(from) + " s"}};
@@ -126,6 +127,11 @@ nlohmann::json Resources(const std::vector<Sample>& samples, double run_seconds)
           {"rss_mb_start", start.rss_mb},
           {"rss_mb_end", end.rss_mb},
           {"rss_slope_mb_per_hour", Slope(t, rss) * 3600.0},
+          {"rss_anon_mb_start", start.rss_anon_mb},
+          {"rss_anon_mb_end", end.rss_anon_mb},
+          {"rss_anon_slope_mb_per_hour", Slope(t, anon) * 3600.0},
+          {"rss_file_mb_start", start.rss_file_mb},
+          {"rss_file_mb_end", end.rss_file_mb},
           {"fds_start", start.fds},
           {"fds_end", end.fds},
           {"threads_start", start.threads},

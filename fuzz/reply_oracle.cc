@@ -65,9 +65,10 @@ Expectation ReplyOracle::Expect(const RawRequest& r, Clock::time_point sent, int
     e.rule = "client_id must have 1 to 63 characters";
     return e;
   }
-  uint64_t& highest = highest_id_[r.client_id];
-  const bool duplicate = highest > 0 && r.request_id <= highest;
-  highest = std::max(highest, r.request_id);
+  // The server remembers the highest id of a client from its first request on, 0 included.
+  const auto [seen, first] = highest_id_.try_emplace(r.client_id, r.request_id);
+  const bool duplicate = !first && r.request_id <= seen->second;
+  seen->second = std::max(seen->second, r.request_id);
   if (duplicate) {
     e.allowed = {flsd_msgs_STATUS_DUPLICATE};
     e.rule = "request_id not above the client's last";

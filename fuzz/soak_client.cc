@@ -1,5 +1,6 @@
 #include "fuzz/soak_client.h"
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 #include <vector>
@@ -100,7 +101,8 @@ nlohmann::json RunSoakClient(const SoakClientOptions& o) {
   // The first request asks how many skills there are, for the oracle; a damp is followed by its
   // presser's clear_stop, so that the next damp finds the robot undamped more often.
   std::optional<RawRequest> follow_up = requests.Plain(ids.front(), "list_skills");
-  for (auto next = Clock::now(); next < until; next += period) {
+  // Paced at rate_hz; after a stall (a reply that never came) it goes on from now, without a burst.
+  for (auto next = Clock::now(); Clock::now() < until; next = std::max(next + period, Clock::now())) {
     std::this_thread::sleep_until(next);
     const RawRequest r = follow_up ? *follow_up : requests.Next();
     follow_up.reset();

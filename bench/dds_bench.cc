@@ -11,6 +11,7 @@
 #include <regex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "bench/machine.h"
 #include "bench/stats.h"
@@ -50,24 +51,36 @@ class ExtraCycloneConfig {
   std::string old_;
 };
 
-// Runs `ddsperf pong` in the background and `ddsperf ping` for `seconds`, and parses ping's
-// interval lines: "... size 12 mean 23.9us min 11.2us 50% 17.9us 90% 37.1us 99% 59.2us max ... cnt 20848".
-// `cyclone_xml`: configuration both add to the caller's (empty: none).
-PingResult RunDdsperf(int domain_id, double seconds, double rate_hz, const std::string& cyclone_xml) {
-  const ExtraCycloneConfig config(cyclone_xml);
-  const std::string domain = std::to_string(domain_id);
-  const std::string duration = std::to_string(static_cast<int>(std::ceil(seconds)) + 1);
-  const char* pong_argv[] = {"ddsperf", "-i", domain.c_str(), "-D", duration.c_str(), "pong", nullptr};
-  pid_t pong = 0;
-  posix_spawn_file_actions_t quiet;
-  posix_spawn_file_actions_init(&quiet);
-  posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
-  const int spawned = posix_spawnp(&pong, "ddsperf", &quiet, nullptr, const_cast<char**>(pong_argv), environ);
-  posix_spawn_file_actions_destroy(&quiet);
-  if (spawned != 0) throw InputError("cannot start ddsperf: is cyclonedds-tools installed?");
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  const std::string command = "ddsperf -i " + domain + " -D " + std::to_string(static_cast<int>(std::ceil(seconds))) + " ping " +
+// `ddsperf pong` in the background for `seconds` or as long as this object lives, whichever is shorter.
+class DdsperfPong {
+ public:
+  DdsperfPong(int domain_id, int seconds) {
+    const std::string domain = std::to_string(domain_id), duration = std::to_string(seconds);
+    const char* argv[] = {"ddsperf", "-i", domain.c_str(), "-D", duration.c_str(), "pong", nullptr};
+    posix_spawn_file_actions_t quiet;
+    posix_spawn_file_actions_init(&quiet);
+    posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
+    const int spawned = posix_spawnp(&pid_, "ddsperf", &quiet, nullptr, const_cast<char**>(argv), environ);
+    posix_spawn_file_actions_destroy(&quiet);
+    if (spawned != 0) throw InputError("cannot start ddsperf: is cyclonedds-tools installed?");
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  }
+  ~DdsperfPong() {
+    kill(pid_, SIGTERM);
+    waitpid(pid_, nullptr, 0);
+  }
+  DdsperfPong(const DdsperfPong&) = delete;
+  DdsperfPong& operator=(const DdsperfPong&) = delete;
+
+ private:
+  pid_t pid_ = 0;
+};
+
+// Runs `ddsperf ping` for `seconds` against a pong, and parses its interval lines:
+// "... size 12 mean 23.9us min 11.2us 50% 17.9us 90% 37.1us 99% 59.2us max ... cnt 20848".
+PingResult Ping(int domain_id, int seconds, double rate_hz) {
+  const std::string command = "ddsperf -i " + std::to_string(domain_id) + " -D " + std::to_string(seconds) + " ping " +
                               std::to_string(static_cast<int>(rate_hz)) + "Hz 2>&1";
   FILE* ping = popen(command.c_str(), "r");
   FLSD_DEMAND(ping != nullptr);
@@ -84,56 +97,93 @@ PingResult RunDdsperf(int domain_id, double seconds, double rate_hz, const std::
     result.count += n;
   }
   pclose(ping);
-  kill(pong, SIGTERM);
-  waitpid(pong, nullptr, 0);
   if (result.count == 0) throw InputError("ddsperf ping reported no round trips (is the domain reachable?)");
   result.p50_us = sum50 / result.count;
   result.p99_us = sum99 / result.count;
   return result;
 }
 
-}  // namespace
-
-nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOptions& options) {
-  using Clock = std::chrono::steady_clock;
-  std::vector<double> rtt_us;
-  rtt_us.reserve(options.calls);
+// skilld's status round trips, `calls` of them at `rate_hz`; those unanswered are counted, not timed.
+struct RoundTrips {
+  std::vector<double> us;
   int unanswered = 0;
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options.rate_hz));
+};
+RoundTrips StatusRoundTrips(Client& client, int calls, double rate_hz) {
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
+  RoundTrips result;
+  result.us.reserve(calls);
   auto next = Clock::now();
-  for (int i = -100; i < options.calls; ++i) {
+  for (int i = 0; i < calls; ++i) {
     std::this_thread::sleep_until(next);
     next += period;
     const auto start = Clock::now();
     const Reply r = client.Status(std::chrono::milliseconds(1000));
-    const double us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
-    if (!r.answered()) ++unanswered;
-    if (i >= 0 && r.answered()) rtt_us.push_back(us);
+    if (!r.answered()) {
+      ++result.unanswered;
+      continue;
+    }
+    result.us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
   }
-  const PingResult ping = RunDdsperf(domain_id, options.ddsperf_seconds, options.rate_hz, dds::SecurityXml(options.security));
-  const double p50 = Quantile(rtt_us, 0.5), p99 = Quantile(rtt_us, 0.99);
-  const double ddsperf_rtt_p50 = 2.0 * ping.p50_us;
+  return result;
+}
+
+}  // namespace
+
+nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOptions& options) {
+  const int calls_per_block = static_cast<int>(options.rate_hz * options.block_seconds);
+  StatusRoundTrips(client, 100, options.rate_hz);  // warm-up
+  std::vector<double> all_us, ratios, ddsperf_p50s, ddsperf_p99s;
+  nlohmann::json blocks = nlohmann::json::array();
+  int unanswered = 0;
+  long ddsperf_round_trips = 0;
+  {
+    const ExtraCycloneConfig config(dds::SecurityXml(options.security));
+    // One pong for every block, with room for each ping's start.
+    const DdsperfPong pong(domain_id, options.blocks * (2 * options.block_seconds + 2) + 10);
+    for (int b = 0; b < options.blocks; ++b) {
+      const RoundTrips skilld = StatusRoundTrips(client, calls_per_block, options.rate_hz);
+      const PingResult ping = Ping(domain_id, options.block_seconds, options.rate_hz);
+      const double p50 = Quantile(skilld.us, 0.5), ddsperf_p50 = 2.0 * ping.p50_us;
+      unanswered += skilld.unanswered;
+      all_us.insert(all_us.end(), skilld.us.begin(), skilld.us.end());
+      ratios.push_back(p50 / ddsperf_p50);
+      ddsperf_p50s.push_back(ddsperf_p50);
+      ddsperf_p99s.push_back(2.0 * ping.p99_us);
+      ddsperf_round_trips += ping.count;
+      blocks.push_back({{"rtt_p50_us", p50}, {"rtt_p99_us", Quantile(skilld.us, 0.99)},
+                        {"ddsperf_rtt_p50_us", ddsperf_p50}, {"ratio", ratios.back()}});
+    }
+  }
+  const double ratio = Quantile(ratios, 0.5);
   nlohmann::json result = {
       {"benchmark", "skillctl bench"},
-      {"calls", options.calls},
       {"rate_hz", options.rate_hz},
+      {"blocks", options.blocks},
+      {"block_seconds", options.block_seconds},
+      {"calls", all_us.size() + unanswered},
       {"unanswered", unanswered},
-      {"rtt_min_us", Quantile(rtt_us, 0.0)},
-      {"rtt_p50_us", p50},
-      {"rtt_p99_us", p99},
-      {"ddsperf_rtt_p50_us", ddsperf_rtt_p50},
-      {"ddsperf_rtt_p99_us", 2.0 * ping.p99_us},
-      {"ddsperf_round_trips", ping.count},
-      {"ratio", p50 / ddsperf_rtt_p50},
+      {"rtt_min_us", Quantile(all_us, 0.0)},
+      {"rtt_p50_us", Quantile(all_us, 0.5)},
+      {"rtt_p99_us", Quantile(all_us, 0.99)},
+      {"ddsperf_rtt_p50_us", Quantile(ddsperf_p50s, 0.5)},
+      {"ddsperf_rtt_p99_us", Quantile(ddsperf_p99s, 0.5)},
+      {"ddsperf_round_trips", ddsperf_round_trips},
+      {"ratio", ratio},  // the median of the blocks' ratios
+      {"ratio_min", Quantile(ratios, 0.0)},
+      {"ratio_max", Quantile(ratios, 1.0)},
+      {"ratio_spread", Quantile(ratios, 1.0) - Quantile(ratios, 0.0)},
+      {"per_block", blocks},
       {"target_ratio_at_most", 1.5},
       {"machine", MachineDescription()},
       {"dds_security", options.security.enabled},
   };
   if (options.security.enabled) {  // what authentication and encryption add to a DDS round trip
-    const PingResult plain = RunDdsperf(domain_id, options.ddsperf_seconds, options.rate_hz, "");
+    const DdsperfPong pong(domain_id, options.block_seconds + 3);
+    const PingResult plain = Ping(domain_id, options.block_seconds, options.rate_hz);
     result["ddsperf_unsecured_rtt_p50_us"] = 2.0 * plain.p50_us;
     result["ddsperf_unsecured_rtt_p99_us"] = 2.0 * plain.p99_us;
-    result["security_cost_p50_us"] = ddsperf_rtt_p50 - 2.0 * plain.p50_us;
+    result["security_cost_p50_us"] = result["ddsperf_rtt_p50_us"].get<double>() - 2.0 * plain.p50_us;
   }
   return result;
 }

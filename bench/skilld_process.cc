@@ -1,9 +1,6 @@
 #include "bench/skilld_process.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -17,46 +14,23 @@
 #include "core/check.h"
 #include "core/paths.h"
 
-extern char** environ;
-
 namespace flsd {
 
 namespace fs = std::filesystem;
 
 SkilldProcess::SkilldProcess(const std::string& library, const std::string& config, int domain_id,
-                             const std::string& name)
+                             const std::string& name, const std::string& backend)
     : domain_id_(domain_id), partition_(name + "-" + std::to_string(getpid())) {
   const std::string loopback = "file://" + ResolveDataPath("configs/cyclonedds_loopback.xml");
   setenv("CYCLONEDDS_URI", loopback.c_str(), /*overwrite=*/0);
   log_ = (fs::temp_directory_path() / (partition_ + ".log")).string();
-  const std::string skilld = (fs::read_symlink("/proc/self/exe").parent_path() / "skilld").string();
-  const std::string resolved = ResolveDataPath(library);
-  const std::string domain = std::to_string(domain_id);
-  std::vector<std::string> args = {skilld, "--backend", "sim", "--library", resolved, "--domain", domain,
-                                   "--partition", partition_};
+  std::vector<std::string> args = {SiblingProgram("skilld"), "--backend", backend, "--library", ResolveDataPath(library),
+                                   "--domain", std::to_string(domain_id), "--partition", partition_};
   if (!config.empty()) args.insert(args.end(), {"--config", ResolveDataPath(config)});
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t output;
-  posix_spawn_file_actions_init(&output);
-  posix_spawn_file_actions_addopen(&output, 1, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&output, 1, 2);
-  const int spawned = posix_spawn(&pid_, skilld.c_str(), &output, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&output);
-  if (spawned != 0) throw InputError("cannot start " + skilld + ": build it first (make build)");
+  process_ = std::make_unique<ChildProcess>(args, log_);
 }
 
-SkilldProcess::~SkilldProcess() {
-  kill(pid_, SIGINT);
-  for (int i = 0; i < 100 && waitpid(pid_, nullptr, WNOHANG) == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  if (kill(pid_, 0) == 0) {
-    kill(pid_, SIGKILL);
-    waitpid(pid_, nullptr, 0);
-  }
-}
+int SkilldProcess::Stop() { return process_->Stop(SIGINT, std::chrono::seconds(5)); }
 
 std::unique_ptr<Client> SkilldProcess::Connect() const {
   Client::Options options;

@@ -23,4 +23,15 @@ inline double Mean(const std::vector<double>& values) {
   return values.empty() ? 0.0 : sum / values.size();
 }
 
+// The least-squares slope of y over x; 0 for fewer than two distinct x.
+inline double Slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const double mx = Mean(x), my = Mean(y);
+  double sxy = 0.0, sxx = 0.0;
+  for (size_t i = 0; i < x.size() && i < y.size(); ++i) {
+    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += (x[i] - mx) * (x[i] - mx);
+  }
+  return sxx > 0.0 ? sxy / sxx : 0.0;
+}
+
 }  // namespace flsd

@@ -198,9 +198,10 @@ int main(int argc, char** argv) {
   watch->add_option("--seconds", watch_seconds, "Stop after this long (0: until Ctrl-C)");
   flsd::DdsBenchOptions bench_options;
   CLI::App* bench = app.add_subcommand("bench", "Round trips to skilld against Cyclone's ddsperf; prints JSON");
-  bench->add_option("--calls", bench_options.calls, "Timed status calls")->check(CLI::Range(10, 10000000));
   bench->add_option("--rate", bench_options.rate_hz, "Calls (and pings) per second")->check(CLI::Range(1.0, 100000.0));
-  bench->add_option("--ddsperf-seconds", bench_options.ddsperf_seconds, "ddsperf ping time")->check(CLI::Range(1.0, 600.0));
+  bench->add_option("--blocks", bench_options.blocks, "Pairs of blocks: skilld's calls, then ddsperf's pings")
+      ->check(CLI::Range(1, 1000));
+  bench->add_option("--block-seconds", bench_options.block_seconds, "Length of each block")->check(CLI::Range(1, 600));
   bool json = false;  // JSON is the only output; the flag is accepted for symmetry with flsd bench
   bench->add_flag("--json", json, "Print one JSON object (the default output)");
   CLI11_PARSE(app, argc, argv);

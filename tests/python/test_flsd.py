@@ -220,8 +220,8 @@ def test_python_and_cxx_status_round_trips_are_alike(server):
         time.sleep(max(0.0, 0.005 - times[-1]))
     times.sort()
     python_p50_us = times[len(times) // 2] * 1e6
-    bench = subprocess.run([str(BIN_DIR / "skillctl"), *server.args(), "--timeout", "10", "bench", "--calls", "200",
-                            "--rate", "200", "--ddsperf-seconds", "1"], capture_output=True, text=True, check=True)
+    bench = subprocess.run([str(BIN_DIR / "skillctl"), *server.args(), "--timeout", "10", "bench", "--rate", "200",
+                            "--blocks", "1", "--block-seconds", "1"], capture_output=True, text=True, check=True)
     cxx_p50_us = json.loads(bench.stdout)["rtt_p50_us"]
     print(f"status() round trip p50: python {python_p50_us:.0f} us, C++ {cxx_p50_us:.0f} us")
     assert python_p50_us < 3 * cxx_p50_us + 1000

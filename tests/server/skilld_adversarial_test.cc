@@ -21,9 +21,9 @@ namespace {
 
 using namespace std::chrono_literals;
 using ::testing::HasSubstr;
-using testutil::RawReply;
-using testutil::RawRequest;
-using testutil::RawState;
+using fuzz::RawReply;
+using fuzz::RawRequest;
+using fuzz::RawState;
 
 class SkilldAdversarialTest : public testutil::RawSkilldFixture {
  protected:
@@ -146,7 +146,7 @@ TEST_F(SkilldAdversarialTest, AHolderThatOnlyAsksForStatusKeepsTheLease) {
 // Random requests, well- and ill-typed, for three seconds: every one is answered with a status
 // the IDL defines (a reason with every refusal), and afterwards the server answers and damps.
 TEST_F(SkilldAdversarialTest, RandomRequestsAreAllAnsweredAndTheServerStillDamps) {
-  testutil::RandomRequests requests(20261202, {"f0", "f1", "f2", "f3", std::string(70, 'c')});
+  fuzz::RandomRequests requests(20261202, {"f0", "f1", "f2", "f3", std::string(70, 'c')});
   EXPECT_GT(testutil::Fuzz(*raw_, requests, 3s, [&] { return server_->Log(); }), 100);
 
   EXPECT_EQ(Call("after", "status").status, flsd_msgs_STATUS_OK);

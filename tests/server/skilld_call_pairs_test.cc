@@ -19,9 +19,9 @@ namespace {
 
 using namespace std::chrono_literals;
 using ::testing::IsEmpty;
-using testutil::RawReply;
-using testutil::RawRequest;
-using testutil::RawState;
+using fuzz::RawReply;
+using fuzz::RawRequest;
+using fuzz::RawState;
 
 // A state-changing call as the test sends it. navigate comes twice: with the server's map it is
 // answered on the request thread, with a map of its own on the navigator's, once the map is read.

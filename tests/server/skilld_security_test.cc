@@ -27,10 +27,10 @@ namespace {
 using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 using ::testing::Not;
-using testutil::RawClient;
-using testutil::RawReply;
-using testutil::RawRequest;
-using testutil::RawState;
+using fuzz::RawClient;
+using fuzz::RawReply;
+using fuzz::RawRequest;
+using fuzz::RawState;
 namespace fs = std::filesystem;
 
 std::string ReadText(const std::string& path) {
@@ -335,7 +335,7 @@ TEST_F(SkilldSecurityTest, RandomRequestsAreAllAnsweredAndTheServerStillDamps) {
   const ChildResult fuzz = InChild([&] {
     const std::unique_ptr<RawClient> raw = Connect(Identity("ours", "alice"));
     const std::string id = raw->identity();
-    testutil::RandomRequests requests(20261202, {id, id, "0123456789ab-0123456789ab", "f0", std::string(70, 'c')});
+    fuzz::RandomRequests requests(20261202, {id, id, "0123456789ab-0123456789ab", "f0", std::string(70, 'c')});
     const int answered = testutil::Fuzz(*raw, requests, 3s, [&] { return server_->Log(); });
     const RawReply damp = Call(*raw, id, "damp");
     const bool damped = raw->WaitForState([](const RawState& s) { return s.mode == flsd_msgs_MODE_DAMP; }, 2s).has_value();

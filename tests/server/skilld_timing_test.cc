@@ -19,9 +19,9 @@ namespace {
 
 using namespace std::chrono_literals;
 using ::testing::HasSubstr;
-using testutil::RawReply;
-using testutil::RawRequest;
-using testutil::RawState;
+using fuzz::RawReply;
+using fuzz::RawRequest;
+using fuzz::RawState;
 
 // A polygon of `n` points on a circle of radius 1 around (50, 50), far from the robot, as YAML.
 std::string Circle(int n) {

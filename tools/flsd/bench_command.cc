@@ -1,4 +1,4 @@
-// flsd bench: sim, train, mpi, policy, hw, plan, nav, vel. Each prints one JSON object.
+// flsd bench: sim, train, mpi, policy, hw, plan, nav, vel, soak. Each prints one JSON object.
 
 #include <cstdio>
 #include <memory>
@@ -8,6 +8,7 @@
 #include "bench/plan_bench.h"
 #include "bench/policy_bench.h"
 #include "bench/sim_bench.h"
+#include "bench/soak_bench.h"
 #include "bench/train_bench.h"
 #include "bench/vel_bench.h"
 #include "tools/flsd/subcommands.h"
@@ -108,6 +109,22 @@ void AddBenchmarks(CLI::App& app, Subcommands& out) {
         cmd.add_option("--domain", o.domain_id, "DDS domain of the skilld it starts")->check(CLI::Range(0, 232));
       },
       RunVelBenchmark);
+  AddBenchmark<SoakBenchOptions>(
+      *bench, out, "soak", "A real skilld under random valid and invalid calls of several clients, every reply checked",
+      [](CLI::App& cmd, SoakBenchOptions& o) {
+        cmd.add_option("--minutes", o.minutes, "How long the clients call")->check(CLI::Range(0.1, 1440.0));
+        cmd.add_option("--clients", o.clients, "Client processes")->check(CLI::Range(1, 64));
+        cmd.add_option("--backend", o.backend, "sim, or hw: the robot emulator with injected faults")
+            ->check(CLI::IsMember({"sim", "hw"}));
+        cmd.add_flag("--security", o.security, "DDS Security, with a PKI of the run's own");
+        cmd.add_flag("--beside-training", o.beside_training, "flsd train (configs/smoke.yaml, 1 thread) all along");
+        cmd.add_flag("!--no-heavy-maps", o.heavy_maps, "Leave out the heaviest maps");
+        cmd.add_option("--rate", o.rate_hz, "Requests per second of each client")->check(CLI::Range(1.0, 500.0));
+        cmd.add_option("--library", o.library, "Skill library skilld serves");
+        cmd.add_option("--seed", o.seed, "Seed of the clients' requests");
+        cmd.add_option("--domain", o.domain_id, "DDS domain of the skilld it starts")->check(CLI::Range(0, 232));
+      },
+      RunSoakBenchmark);
 }
 
 }  // namespace flsd::cli

@@ -275,6 +275,7 @@ nlohmann::json RunSoakBenchmark(const SoakBenchOptions& o) {
       {"requests_dropped_by_server", server_dropped},
       {"skilld", Resources(samples, run_seconds)},
       {"tick_lateness_ms", TickLateness(skilld_log)},
+      {"passed", total["wrong"].get<int64_t>() == 0 && total["dropped"].get<int64_t>() == 0 && crashes.empty()},
       {"damp_latency_ms",
        {{"count", damp_ms.size()}, {"p50", Quantile(damp_ms, 0.5)}, {"p99", Quantile(damp_ms, 0.99)},
         {"max", Quantile(damp_ms, 1.0)}}},

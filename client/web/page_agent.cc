@@ -161,6 +161,11 @@ json AgentPageLink::Command(const std::string& name, const std::string& body, in
 
 json AgentPageLink::Skills(int& status) { return Request({{"kind", "skills"}}, status); }
 
+bool AgentPageLink::alive() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return alive_;
+}
+
 std::string AgentPageLink::NextEvent(uint64_t after, uint64_t& seen, std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
   if (!arrived_.wait_for(lock, timeout, [&] { return !alive_ || number_ > after; }) || !alive_) return "";

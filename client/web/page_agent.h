@@ -43,6 +43,7 @@ class AgentPageLink : public PageLink {
   nlohmann::json Command(const std::string& name, const std::string& body, int& status) override;
   nlohmann::json Skills(int& status) override;
   std::string NextEvent(uint64_t after, uint64_t& seen, std::chrono::milliseconds timeout) override;
+  bool alive() const override;
 
  private:
   nlohmann::json Request(nlohmann::json request, int& status);
@@ -54,7 +55,7 @@ class AgentPageLink : public PageLink {
   FILE* from_agent_ = nullptr;
   std::string id_;
   std::mutex write_mutex_;
-  std::mutex mutex_;  // what the reader thread fills in
+  mutable std::mutex mutex_;  // what the reader thread fills in
   std::condition_variable arrived_;
   bool alive_ = true;
   std::string event_;

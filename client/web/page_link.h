@@ -28,6 +28,8 @@ class PageLink {
   virtual nlohmann::json Skills(int& status) = 0;
   // As StateFeed::Next: the first state event after number `after`, "" after `timeout`.
   virtual std::string NextEvent(uint64_t after, uint64_t& seen, std::chrono::milliseconds timeout) = 0;
+  // False once the client is gone for good (a page agent that died): the page's streams end.
+  virtual bool alive() const { return true; }
 };
 
 class LocalPageLink : public PageLink {

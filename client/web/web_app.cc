@@ -23,6 +23,9 @@ using nlohmann::json;
 
 constexpr char kCookie[] = "skillweb_session";
 constexpr int kStreamsPerSession = 4;  // a page opens one; reloads may overlap for a moment
+// Streams of all sessions together: each holds one of the server's connection threads for as long
+// as it is open, so they are kept well below that pool, and calls (a STOP) always find a thread.
+constexpr int kStreamsInAll = 24;
 
 // The host part of a Host header ("127.0.0.1:8090" -> "127.0.0.1", "[::1]:8090" -> "[::1]").
 std::string HostName(const std::string& host) { return host.substr(0, host.rfind(':')); }
@@ -283,11 +286,18 @@ void WebApp::Events(const std::shared_ptr<Session>& session, httplib::Response& 
     --session->streams;
     return Refuse(response, 429, "too many open streams for this session");
   }
+  if (++streams_ > kStreamsInAll) {
+    --streams_;
+    --session->streams;
+    return Refuse(response, 429, "too many open streams: close other pages");
+  }
   auto seen = std::make_shared<uint64_t>(0);
   response.set_chunked_content_provider(
       "text/event-stream",
       [this, session, seen](std::size_t, httplib::DataSink& sink) {
-        if (stopping_ || !session->open) {  // the stream's proper end, which the page reads as such
+        // The stream's proper end, which the page reads as such (a dead client would otherwise
+        // answer at once, and this loop would spin).
+        if (stopping_ || !session->open || !session->link->alive()) {
           sink.done();
           return true;
         }
@@ -298,7 +308,10 @@ void WebApp::Events(const std::shared_ptr<Session>& session, httplib::Response& 
         const std::string bytes = event.empty() ? std::string(":\n\n") : event;
         return sink.write(bytes.data(), bytes.size());
       },
-      [session](bool) { --session->streams; });
+      [this, session](bool) {
+        --session->streams;
+        --streams_;
+      });
 }
 
 void WebApp::Command(const httplib::Request& request, httplib::Response& response) {

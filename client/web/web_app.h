@@ -81,6 +81,7 @@ class WebApp {
   RateLimiter login_attempts_, commands_;
   bool tls_ = false, loopback_ = true;
   std::atomic<bool> stopping_{false};
+  std::atomic<int> streams_{0};  // open event streams of all sessions
   std::unique_ptr<WebServer> server_;  // last: it goes first, while the sessions still exist
 };
 

@@ -1,6 +1,8 @@
 #include "client/web/web_server.h"
 
+#include <arpa/inet.h>
 #include <httplib.h>
+#include <netinet/in.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -20,7 +22,12 @@ constexpr std::size_t kConnectionThreads = 48;
 }  // namespace
 
 bool IsLoopback(const std::string& host) {
-  return host.rfind("127.", 0) == 0 || host == "::1" || host == "localhost";
+  // Numeric addresses only (and "localhost"): a name such as 127.example.org may resolve anywhere.
+  if (host == "localhost") return true;
+  in_addr v4{};
+  if (inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  return inet_pton(AF_INET6, host.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
 }
 
 std::string ExposureError(const ListenOptions& listen, bool logins, bool insecure) {

@@ -111,5 +111,13 @@ TEST(ExposureTest, BeyondLoopbackNeedsTlsAndLoginsOrInsecure) {
   EXPECT_EQ(ExposureError(listen, true, false), "");
 }
 
+TEST(ExposureTest, OnlyNumericLoopbackAddressesCountAsLoopback) {
+  for (const char* host : {"127.0.0.1", "127.3.2.1", "::1", "localhost"}) EXPECT_TRUE(IsLoopback(host)) << host;
+  // A name that merely starts like a loopback address may resolve anywhere.
+  for (const char* host : {"127.example.org", "0.0.0.0", "::", "::ffff:127.0.0.1", "10.0.0.1", ""}) {
+    EXPECT_FALSE(IsLoopback(host)) << host;
+  }
+}
+
 }  // namespace
 }  // namespace flsd::web

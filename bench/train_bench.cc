@@ -21,7 +21,7 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
   TrainConfig config = LoadTrainConfig(ResolveDataPath(options.config));
   if (!options.method.empty()) config.method = options.method;
   if (options.threads > 0) config.num_threads = options.threads;
-  ConfigureTorchThreads(config.num_threads);
+  ConfigureLearningProcess(config.num_threads);
   const Communicator& comm = Communicator::World();
   SkillDiscoveryTask task(config, comm);
   OnPolicyRunner runner(task, config.ppo, config.seed, comm);

@@ -74,7 +74,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   eval_cmd->add_flag("--json", eval->json, "Print the whole JSON (default: a summary)");
   eval_cmd->add_option("--iteration", eval->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
   out.push_back({eval_cmd, [eval] {
-                   ConfigureTorchThreads(0);
+                   ConfigureLearningProcess(0);
                    const nlohmann::json result =
                        EvaluateRun(eval->run_dir, eval->options, eval->kept_iteration, eval->starts);
                    return eval->json ? PrintJson(result) : PrintEvaluationSummary(eval->run_dir, result);
@@ -114,7 +114,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   export_cmd->add_option("-o,--output", export_args->library_path, "Library file to write")->required();
   export_cmd->add_option("--iteration", export_args->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
   out.push_back({export_cmd, [export_args] {
-                   ConfigureTorchThreads(0);
+                   ConfigureLearningProcess(0);
                    return PrintJson(ExportRun(export_args->run_dir, export_args->library_path, export_args->kept_iteration));
                  }});
 
@@ -126,7 +126,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   export_selector_cmd->add_option("--iteration", selector->kept_iteration, kKeptIterationHelp)
       ->check(CLI::Range(1, 100000000));
   out.push_back({export_selector_cmd, [selector] {
-                   ConfigureTorchThreads(0);
+                   ConfigureLearningProcess(0);
                    return PrintJson(ExportSelector(selector->run_dir, selector->library_path, selector->kept_iteration));
                  }});
 
@@ -140,7 +140,7 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   curve_cmd->add_option("--cases-from", curve->cases_library,
                         "The library whose evaluation set is tracked (default: the run's own)");
   out.push_back({curve_cmd, [curve] {
-                   ConfigureTorchThreads(0);
+                   ConfigureLearningProcess(0);
                    return PrintJson(SelectorCurve(
                        curve->run_dir, curve->cases_library.empty() ? "" : ResolveDataPath(curve->cases_library)));
                  }});

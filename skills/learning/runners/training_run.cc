@@ -1,11 +1,13 @@
 #include "skills/learning/runners/training_run.h"
 
 #include <dlfcn.h>
+#include <malloc.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -19,10 +21,14 @@
 
 namespace flsd {
 
-void ConfigureTorchThreads(int threads) {
+void ConfigureLearningProcess(int threads) {
   using SetThreads = void (*)(int);
   if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
   torch::set_num_threads(ResolveThreadCount(threads));
+  // glibc serves blocks over 32 MB with fresh mmap pages, zero-filled on first touch, and unmaps
+  // them on free: every large tensor of an update paid its page faults again.
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
 }
 
 void WarnIfOversubscribed(int threads) {
@@ -47,7 +53,7 @@ const Communicator& StartRun(const RunFolder& folder, const std::string& config_
   } else {
     spdlog::set_level(spdlog::level::warn);  // the leader speaks for the job
   }
-  ConfigureTorchThreads(threads);
+  ConfigureLearningProcess(threads);
   if (comm.size() == 1) {
     WarnIfOversubscribed(threads);
   } else {

@@ -21,7 +21,12 @@ namespace {
 struct RunArgs {
   std::string run_dir, library_path;
   int kept_iteration = 0;
+  bool best = false;
+  // The kept checkpoint asked for: --best's (best.json), --iteration's, or 0 for the latest.
+  int Iteration() const { return best ? BestIteration(run_dir) : kept_iteration; }
 };
+
+constexpr const char* kBestHelp = "The kept checkpoint the run judged best as a library (best.json)";
 
 int PrintJson(const nlohmann::json& result) {
   std::printf("%s\n", result.dump(2).c_str());
@@ -72,11 +77,12 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   eval_cmd->add_option("--seed", eval->options.seed, "Seed of the starts and the randomisation (default: 1)");
   eval_cmd->add_option("--starts", eval->starts, StartsHelp())->check(CLI::Range(1, 1000));
   eval_cmd->add_flag("--json", eval->json, "Print the whole JSON (default: a summary)");
-  eval_cmd->add_option("--iteration", eval->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
+  CLI::Option* eval_iteration =
+      eval_cmd->add_option("--iteration", eval->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
+  eval_cmd->add_flag("--best", eval->best, kBestHelp)->excludes(eval_iteration);
   out.push_back({eval_cmd, [eval] {
                    ConfigureLearningProcess(0);
-                   const nlohmann::json result =
-                       EvaluateRun(eval->run_dir, eval->options, eval->kept_iteration, eval->starts);
+                   const nlohmann::json result = EvaluateRun(eval->run_dir, eval->options, eval->Iteration(), eval->starts);
                    return eval->json ? PrintJson(result) : PrintEvaluationSummary(eval->run_dir, result);
                  }});
 
@@ -112,10 +118,12 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
   CLI::App* export_cmd = app.add_subcommand("export", "Write a run's skill library (safetensors)");
   export_cmd->add_option("run", export_args->run_dir, "Run folder")->required();
   export_cmd->add_option("-o,--output", export_args->library_path, "Library file to write")->required();
-  export_cmd->add_option("--iteration", export_args->kept_iteration, kKeptIterationHelp)->check(CLI::Range(1, 100000000));
+  CLI::Option* export_iteration = export_cmd->add_option("--iteration", export_args->kept_iteration, kKeptIterationHelp)
+                                       ->check(CLI::Range(1, 100000000));
+  export_cmd->add_flag("--best", export_args->best, kBestHelp)->excludes(export_iteration);
   out.push_back({export_cmd, [export_args] {
                    ConfigureLearningProcess(0);
-                   return PrintJson(ExportRun(export_args->run_dir, export_args->library_path, export_args->kept_iteration));
+                   return PrintJson(ExportRun(export_args->run_dir, export_args->library_path, export_args->Iteration()));
                  }});
 
   auto selector = std::make_shared<RunArgs>();

@@ -1,9 +1,12 @@
 #include "skills/learning/evaluation/evaluation.h"
 
 #include <filesystem>
+#include <fstream>
 
 #include "core/atomic_file.h"
+#include "core/check.h"
 #include "robot/observation.h"
+#include "skills/learning/evaluation/library_bar.h"
 #include "core/thread_pool.h"
 #include "sim/vec_env.h"
 #include "skills/learning/runners/run_folder.h"
@@ -44,6 +47,19 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
   return rollouts.Finish(config.method, options.randomize, std::move(mirror_skill));
 }
 
+namespace {
+
+std::string BestFile(const std::string& run_dir) { return (std::filesystem::path(run_dir) / "best.json").string(); }
+
+nlohmann::json ReadJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded() || !json.is_object()) throw InputError(path + ": expected a JSON object");
+  return json;
+}
+
+}  // namespace
+
 nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration, int starts) {
   namespace fs = std::filesystem;
   const TrainConfig config = LoadTrainConfig((fs::path(run_dir) / "config.yaml").string());
@@ -62,6 +78,46 @@ nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& 
   WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + ".json")).string(), json.dump(2) + "\n");
   WriteFileAtomically((fs::path(run_dir) / ("eval" + suffix + "_skills.csv")).string(), SkillSummaryCsv(eval));
   return json;
+}
+
+nlohmann::json JudgeKeptCheckpoint(const std::string& run_dir, int iteration) {
+  EvaluationOptions options;
+  options.randomize = true;
+  const nlohmann::json eval = EvaluateRun(run_dir, options, iteration, kRandomizedStarts);
+  const LibraryBar bar = LibraryBarFromJson(eval.at("bar"), run_dir + " eval of iteration " + std::to_string(iteration));
+  const std::string path = BestFile(run_dir);
+  nlohmann::json best = nlohmann::json::object();
+  if (std::filesystem::exists(path)) best = ReadJsonFile(path);
+  const nlohmann::json judged_entry = {{"iteration", iteration}, {"bar", eval.at("bar")}};
+  nlohmann::json judged = best.value("judged", nlohmann::json::array());
+  // A resumed run judges again the checkpoints it keeps again: the latest judgement stands.
+  for (auto it = judged.begin(); it != judged.end();) it = it->at("iteration") == iteration ? judged.erase(it) : it + 1;
+  judged.push_back(judged_entry);
+  const bool first = !best.contains("iteration") || best.at("iteration") == iteration;
+  if (first || BetterLibrary(bar, LibraryBarFromJson(best.at("bar"), path))) {
+    best["iteration"] = iteration;
+    best["env_steps"] = eval.at("env_steps");
+    best["bar"] = eval.at("bar");
+  }
+  best["rule"] = "every kept checkpoint judged over " + std::to_string(kRandomizedStarts) +
+                 " randomised starts; best: all skills surviving, then directions within the limits, survivors, "
+                 "directions, least slip";
+  best["judged"] = judged;
+  WriteFileAtomically(path, best.dump(2) + "\n");
+  return best;
+}
+
+int BestIteration(const std::string& run_dir) {
+  const std::string path = BestFile(run_dir);
+  if (!std::filesystem::exists(path)) {
+    throw InputError(run_dir + " has no best.json: the run judged none of its kept checkpoints (keep_best, "
+                     "keep_checkpoint_every)");
+  }
+  const nlohmann::json best = ReadJsonFile(path);
+  if (!best.contains("iteration") || !best.at("iteration").is_number_integer()) {
+    throw InputError(path + ": expected an integer 'iteration'");
+  }
+  return best.at("iteration").get<int>();
 }
 
 }  // namespace flsd

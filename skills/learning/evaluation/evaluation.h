@@ -25,4 +25,12 @@ Evaluation EvaluateSkills(const TrainConfig& config, ActorCritic policy, Running
 nlohmann::json EvaluateRun(const std::string& run_dir, const EvaluationOptions& options, int iteration = 0,
                            int starts = 1);
 
+// A run's own rule for the checkpoint it offers as its library: each kept checkpoint is evaluated
+// as `flsd export` judges one (kRandomizedStarts randomised starts: survival the worst, slip the
+// mean), and the best by BetterLibrary is named in RUN/best.json with its bar, beside every kept
+// checkpoint judged so far (how many it was picked from). Returns best.json's contents.
+nlohmann::json JudgeKeptCheckpoint(const std::string& run_dir, int iteration);
+// The iteration RUN/best.json names; throws InputError if the run has judged no checkpoint.
+int BestIteration(const std::string& run_dir);
+
 }  // namespace flsd

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+
+#include "core/check.h"
 
 namespace flsd {
 namespace {
@@ -49,11 +52,18 @@ LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& li
   bar.skill.fill(-1);
   bar.pooled_high_frequency_ratio = evaluation.high_frequency.pooled_ratio;
   bar.lowest_mover_height = INFINITY;
+  std::array<int, kNumDirections> sound_skill;  // as bar.skill, among the upright skills that do not slide
+  std::array<double, kNumDirections> sound_speed{};
+  sound_skill.fill(-1);
   for (const SkillSummary& s : evaluation.skills) {
     if (!Dependable(DescribeSkill(s))) continue;
     ++bar.survivors;
     OfferForEveryDirection(s.skill, s.mean_linear_velocity[0], s.mean_linear_velocity[1], s.mean_angular_velocity[2],
                            limits, bar.skill, bar.speed);
+    if (s.mean_base_height >= limits.mover_height && s.mean_stance_foot_speed <= limits.mover_slip) {
+      OfferForEveryDirection(s.skill, s.mean_linear_velocity[0], s.mean_linear_velocity[1],
+                             s.mean_angular_velocity[2], limits, sound_skill, sound_speed);
+    }
     const bool mover = std::hypot(s.mean_linear_velocity[0], s.mean_linear_velocity[1]) >= limits.mover_speed ||
                        std::abs(s.mean_angular_velocity[2]) >= limits.mover_turn_rate;
     if (!mover) continue;
@@ -62,11 +72,21 @@ LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& li
     bar.fastest_mover_slip = std::max(bar.fastest_mover_slip, s.mean_stance_foot_speed);
   }
   if (bar.movers == 0) bar.lowest_mover_height = 0.0;
+  bar.directions_within_limits = static_cast<int>(std::count_if(sound_skill.begin(), sound_skill.end(), [](int k) { return k >= 0; }));
   bar.met = bar.survivors == bar.num_skills &&
             std::none_of(bar.skill.begin(), bar.skill.end(), [](int k) { return k < 0; }) &&
             bar.lowest_mover_height >= limits.mover_height && bar.fastest_mover_slip <= limits.mover_slip &&
             bar.pooled_high_frequency_ratio <= limits.high_frequency_ratio;
   return bar;
+}
+
+bool BetterLibrary(const LibraryBar& a, const LibraryBar& b) {
+  auto rank = [](const LibraryBar& bar) {
+    const int directions = static_cast<int>(std::count_if(bar.skill.begin(), bar.skill.end(), [](int k) { return k >= 0; }));
+    return std::make_tuple(bar.survivors == bar.num_skills, bar.directions_within_limits, bar.survivors, directions,
+                           -bar.fastest_mover_slip);
+  };
+  return rank(a) > rank(b);
 }
 
 std::array<int, kNumDirections> DirectionSkills(const SkillLibrary& library, const LibraryBarLimits& limits) {
@@ -91,10 +111,33 @@ nlohmann::json LibraryBarJson(const LibraryBar& bar) {
           {"survivors", bar.survivors},
           {"num_skills", bar.num_skills},
           {"directions", directions},
+          {"directions_within_limits", bar.directions_within_limits},
           {"movers", bar.movers},
           {"lowest_mover_height", bar.lowest_mover_height},
           {"fastest_mover_slip", bar.fastest_mover_slip},
           {"pooled_high_frequency_ratio", bar.pooled_high_frequency_ratio}};
+}
+
+LibraryBar LibraryBarFromJson(const nlohmann::json& json, const std::string& where) {
+  try {
+    LibraryBar bar;
+    bar.met = json.at("met").get<bool>();
+    bar.survivors = json.at("survivors").get<int>();
+    bar.num_skills = json.at("num_skills").get<int>();
+    for (int d = 0; d < kNumDirections; ++d) {
+      const nlohmann::json& choice = json.at("directions").at(kDirectionNames[d]);
+      bar.skill[d] = choice.at("skill").is_null() ? -1 : choice.at("skill").get<int>();
+      bar.speed[d] = choice.at("speed").get<double>();
+    }
+    bar.directions_within_limits = json.at("directions_within_limits").get<int>();
+    bar.movers = json.at("movers").get<int>();
+    bar.lowest_mover_height = json.at("lowest_mover_height").get<double>();
+    bar.fastest_mover_slip = json.at("fastest_mover_slip").get<double>();
+    bar.pooled_high_frequency_ratio = json.at("pooled_high_frequency_ratio").get<double>();
+    return bar;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": not a library bar as flsd eval writes it (" + e.what() + ")");
+  }
 }
 
 }  // namespace flsd

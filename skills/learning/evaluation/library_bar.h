@@ -5,6 +5,7 @@
 // can be compared by it.
 
 #include <array>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -37,6 +38,10 @@ struct LibraryBar {
   // its speed (m/s, or rad/s for the turns) that way.
   std::array<int, kNumDirections> skill{};
   std::array<double, kNumDirections> speed{};
+  // Of the six directions, those that a surviving skill goes within the limits while its base stays
+  // at mover_height or above and its stance feet slide at most mover_slip: a library of such skills
+  // alone has these directions.
+  int directions_within_limits = 0;
   int movers = 0;
   double lowest_mover_height = 0.0;  // m; 0 without movers
   double fastest_mover_slip = 0.0;   // m/s
@@ -45,10 +50,16 @@ struct LibraryBar {
 };
 
 LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& limits = {});
+// How a run picks the checkpoint it keeps as its best: every skill surviving first, then more
+// directions within the limits, more survivors, more directions at all, less slip.
+bool BetterLibrary(const LibraryBar& a, const LibraryBar& b);
 // The same choice from a library's descriptors, among the skills that fell in neither of its
 // evaluations (those skilld runs): per direction the skill that goes that way fastest within the
 // limits, -1 where none does.
 std::array<int, kNumDirections> DirectionSkills(const SkillLibrary& library, const LibraryBarLimits& limits = {});
 nlohmann::json LibraryBarJson(const LibraryBar& bar);
+// The inverse of LibraryBarJson; throws InputError naming `where` and the key that is missing or
+// of the wrong type.
+LibraryBar LibraryBarFromJson(const nlohmann::json& json, const std::string& where);
 
 }  // namespace flsd

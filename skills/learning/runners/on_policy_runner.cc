@@ -126,6 +126,7 @@ int OnPolicyRunner::Learn(const RunFolder& folder, const LearnSchedule& schedule
       saved_iteration = stats.iteration;
     }
     if (keep) KeepCheckpoint(folder, stats.iteration);
+    if (keep && schedule.after_keep) schedule.after_keep(stats.iteration);
   }
   if (!comm_.leader()) return 0;
   if (saved_iteration != iteration()) SaveCheckpoint(folder.checkpoint);

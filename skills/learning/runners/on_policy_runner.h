@@ -10,6 +10,7 @@
 #include <torch/torch.h>
 
 #include <atomic>
+#include <functional>
 #include <string>
 
 #include "skills/learning/runners/communicator.h"
@@ -25,6 +26,7 @@ struct LearnSchedule {
   int iterations = 0;
   int checkpoint_every = 1;
   int keep_every = 0;
+  std::function<void(int iteration)> after_keep;  // the leader's, after each checkpoint it keeps
 };
 
 class OnPolicyRunner {

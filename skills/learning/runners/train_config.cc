@@ -27,6 +27,14 @@ void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
       throw InputError(where + ": symmetry." + e.what());
     }
   }
+  if (config.travel.enabled()) {
+    try {
+      const SkillDirections directions = ParseSkillDirections(config.travel, config.num_skills);
+      if (config.symmetry.enabled) CheckMirrorImages(directions, SkillPairingOf(config.num_skills, config.symmetry));
+    } catch (const InputError& e) {
+      throw InputError(where + ": " + e.what());
+    }
+  }
   if (config.skill_switch.enabled() && config.skill_switch.interval_s.lo < a1::kControlDt) {
     throw InputError(where + ": skill_switch.interval_s: expected at least one control step (0.02 s), got " +
                      std::to_string(config.skill_switch.interval_s.lo));

@@ -11,6 +11,7 @@
 #include "skills/learning/networks/discriminator.h"
 #include "skills/learning/networks/pae.h"
 #include "skills/learning/algorithms/ppo.h"
+#include "skills/learning/tasks/travel_reward.h"
 
 namespace flsd {
 
@@ -69,6 +70,8 @@ struct TrainConfig {
   // Iterations between checkpoints kept for good as checkpoints/ITER.pt (0: none). A run's skills
   // can peak mid-run and be lost by the end (runs/flsd_replicate_s1 had 8 movers at 1250, 4 at 3009).
   int keep_checkpoint_every = 250;
+  // Judge each kept checkpoint as a library and name the best in best.json (JudgeKeptCheckpoint).
+  bool keep_best = true;
   RegularizationConfig regularization;
   SymmetryConfig symmetry;
   SkillSwitchConfig skill_switch;
@@ -79,6 +82,7 @@ struct TrainConfig {
   PpoConfig ppo;
   PaeConfig pae;
   DiscriminatorConfig discriminator;
+  TravelConfig travel;  // off by default: the paper's reward alone
 
   template <class V>
   void Visit(V& v) {
@@ -95,6 +99,7 @@ struct TrainConfig {
     v("critic_position_scale", critic_position_scale, Bounds<double>{0.0, 100.0});
     v("checkpoint_every", checkpoint_every, Bounds<int>{1, 100000000});
     v("keep_checkpoint_every", keep_checkpoint_every, Bounds<int>{0, 100000000});
+    v("keep_best", keep_best);
     v("regularization", regularization);
     v("symmetry", symmetry);
     v("skill_switch", skill_switch);
@@ -104,6 +109,7 @@ struct TrainConfig {
     v("ppo", ppo);
     v("pae", pae);
     v("discriminator", discriminator);
+    v("travel", travel);
   }
 };
 

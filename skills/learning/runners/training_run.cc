@@ -14,6 +14,7 @@
 
 #include "core/check.h"
 #include "core/thread_pool.h"
+#include "skills/learning/evaluation/evaluation.h"
 #include "skills/learning/runners/on_policy_runner.h"
 #include "skills/learning/runners/policy_learner.h"
 #include "skills/learning/tasks/skill_discovery_task.h"
@@ -122,8 +123,22 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
           ? fmt::format("new {} run in {}", config.method, options.run_dir)
           : fmt::format("new {} run in {}: {} skills, {} envs x {} steps per iteration, {} iterations", config.method,
                         options.run_dir, config.num_skills, config.num_envs, config.steps_per_env, config.iterations);
+  LearnSchedule schedule{config.iterations, config.checkpoint_every, config.keep_checkpoint_every};
+  if (config.keep_best) {
+    // A judgement that fails (a damaged best.json, say) is reported and the training goes on.
+    schedule.after_keep = [&](int iteration) {
+      try {
+        const nlohmann::json best = JudgeKeptCheckpoint(options.run_dir, iteration);
+        spdlog::info("kept checkpoint {}: {} of 6 directions within the limits; best.json: {} of {} judged", iteration,
+                     best.at("judged").back().at("bar").at("directions_within_limits").get<int>(),
+                     best.at("iteration").get<int>(), best.at("judged").size());
+      } catch (const std::exception& e) {
+        spdlog::error("kept checkpoint {} was not judged: {}", iteration, e.what());
+      }
+    };
+  }
   return Train(task, config.ppo, config.seed, comm, folder, options.resume, options.from_checkpoint, new_run,
-               {config.iterations, config.checkpoint_every, config.keep_checkpoint_every}, stop_requested);
+               schedule, stop_requested);
 }
 
 int RunVelocityTraining(const VelocityRunOptions& options, const std::atomic<bool>& stop_requested) {

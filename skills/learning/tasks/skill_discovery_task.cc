@@ -60,6 +60,8 @@ SkillDiscoveryTask::SkillDiscoveryTask(const TrainConfig& config, const Communic
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config), config.num_skills, config.discriminator),
       pairing_(SkillPairingOf(config.num_skills, config.symmetry)),
+      travel_directions_(config.travel.enabled() ? ParseSkillDirections(config.travel, config.num_skills)
+                                                 : SkillDirections()),
       constraint_terminations_(config.constraint_terminations),
       pae_optimizer_(pae_->parameters(),
                      torch::optim::AdamWOptions(config.pae.learning_rate).weight_decay(config.pae.weight_decay)),
@@ -94,6 +96,7 @@ SkillDiscoveryTask::SkillDiscoveryTask(const TrainConfig& config, const Communic
   next_position_ = torch::zeros({t, n, config.discriminator.skill_frame_size()}, f);
   skills_ = torch::zeros({t, n}, torch::kLong);
   penalties_ = torch::zeros({t, n}, f);
+  if (config.travel.enabled()) travel_ = torch::zeros({t, n}, f);
 }
 
 RolloutShape SkillDiscoveryTask::shape() const {
@@ -135,6 +138,16 @@ void SkillDiscoveryTask::TurnHeading(int i, double yaw) {
   last_yaw_[i] = yaw;
 }
 
+double SkillDiscoveryTask::TravelPay(int i) const {
+  const std::optional<Direction>& direction = travel_directions_[skill_[i]];
+  if (!direction) return 0.0;
+  const RobotState& s = vec_.stepped_state(i);
+  const Eigen::Vector3d v = s.base_orientation * s.base_linear_velocity;  // world frame
+  const double yaw0 = skill_origin_[i][2], c = std::cos(yaw0), sn = std::sin(yaw0);
+  const double yaw_rate = (s.base_orientation * s.base_angular_velocity).z();
+  return TravelReward(*direction, {c * v.x() + sn * v.y(), -sn * v.x() + c * v.y(), yaw_rate}, config_.travel);
+}
+
 // The critic's o^p and q, q in the current skill's frame (SkillFramePosition).
 torch::Tensor SkillDiscoveryTask::CriticObservations(const torch::Tensor& obs) {
   const int size = config_.discriminator.skill_frame_size();
@@ -174,6 +187,7 @@ void SkillDiscoveryTask::AfterStep(int t, const float* actions, Rollout& rollout
   float* dones = rollout.dones[t].data_ptr<float>();
   float* timeouts = rollout.timeouts[t].data_ptr<float>();
   float* penalties = penalties_[t].data_ptr<float>();
+  float* travel = travel_.defined() ? travel_[t].data_ptr<float>() : nullptr;
   float* violations = violations_.defined() ? violations_[t].data_ptr<float>() : nullptr;
   const RegularizationConfig& regularization = config_.regularization;
   vec_.pool().ParallelFor(n, [&](int begin, int end) {
@@ -186,6 +200,7 @@ void SkillDiscoveryTask::AfterStep(int t, const float* actions, Rollout& rollout
       if (windows) streams_.Push(i, t, next);
       std::copy(next, next + kMotionObsSize, next_motion + i * kMotionObsSize);
       TurnHeading(i, vec_.stepped_state(i).Yaw());
+      if (travel != nullptr) travel[i] = static_cast<float>(TravelPay(i));  // the skill that took the step
       SkillFramePosition(i, position, next_position + q_size * i);
       dones[i] = done ? 1.0f : 0.0f;
       if (violations != nullptr) {
@@ -260,15 +275,17 @@ void SkillDiscoveryTask::FinishRollout(Rollout& rollout, int iteration) {
   const torch::Tensor observations = torch::cat({positions, features}, 1);
   const torch::Tensor skills = skills_.view({count});
   const torch::Tensor log_probs = discriminator_->LogProbs(observations);
-  const torch::Tensor reward = IntrinsicReward(log_probs, skills);
+  torch::Tensor reward = IntrinsicReward(log_probs, skills);
   // Means over all ranks (each holds as many transitions).
-  double means[3] = {reward.mean().item<double>(),
+  double means[4] = {reward.mean().item<double>(),
                      (log_probs.argmax(1) == skills).to(torch::kFloat32).mean().item<double>(),
-                     penalties_.mean().item<double>()};
-  comm_.Sum(means, 3);
+                     penalties_.mean().item<double>(), travel_.defined() ? travel_.mean().item<double>() : 0.0};
+  comm_.Sum(means, 4);
   stats_.intrinsic_reward = means[0] / comm_.size();
   stats_.discriminator_accuracy = means[1] / comm_.size();
   stats_.regularization = means[2] / comm_.size();
+  stats_.travel_reward = means[3] / comm_.size();
+  if (travel_.defined()) reward = reward + travel_.view({count});
   // As legged_gym clips its total: penalties included, so that no step pays less than ending.
   const torch::Tensor total = config_.reward_scale * reward + penalties_.view({count});
   torch::Tensor rewards = (config_.only_positive_rewards ? total.clamp_min(0.0) : total).view({steps_, num_envs_});
@@ -438,6 +455,7 @@ ProgressRecord SkillProgress(const RunnerStats& r, const SkillDiscoveryStats& s)
     const std::string column = std::string("violation_") + kConstraintNames[c];
     record.Add(column.c_str(), s.constraints.violation_rate[c], "%.5f");
   }
+  record.Add("travel_reward", s.travel_reward, "%.5f");  // last: rows of runs from before it stay aligned
   return record;
 }
 

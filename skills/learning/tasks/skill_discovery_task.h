@@ -36,6 +36,7 @@ struct SkillDiscoveryStats {
   double discriminator_accuracy = 0.0;
   double intrinsic_reward = 0.0;      // mean of Eq. 11 before any clipping
   double regularization = 0.0;        // mean smoothness penalty per step (dt-scaled, <= 0)
+  double travel_reward = 0.0;         // mean pay per step for travelling the skills' ways (TravelConfig)
   ConstraintStats constraints;        // with constraints as terminations
   double discriminator_loss = 0.0;
   double pae_loss = 0.0;
@@ -101,6 +102,9 @@ class SkillDiscoveryTask : public RolloutTask {
   void SkillFramePosition(int i, const float* world, float* out) const;
   // Adds env i's turn from its last yaw to `yaw` (the shorter way round) to the heading turned.
   void TurnHeading(int i, double yaw);
+  // Env i's pay for its last step's travel the way its skill goes (TravelReward, in the skill's
+  // frame); 0 for a skill without a direction.
+  double TravelPay(int i) const;
   // Records the step's transition of every env (windows, q, ends, penalties) and moves each env's
   // episode and skill schedule on.
   void AfterStep(int t, const float* actions, Rollout& rollout);
@@ -125,6 +129,7 @@ class SkillDiscoveryTask : public RolloutTask {
   PeriodicAutoencoder pae_{nullptr};
   Discriminator discriminator_{nullptr};
   mirror::SkillPairing pairing_;
+  SkillDirections travel_directions_;  // with travel.weight > 0
   ConstraintTerminations constraint_terminations_;
   torch::optim::AdamW pae_optimizer_;
   torch::optim::Adam discriminator_optimizer_;
@@ -150,6 +155,7 @@ class SkillDiscoveryTask : public RolloutTask {
   torch::Tensor next_position_;  // [T, N, 2 or 3] q at t+1
   torch::Tensor skills_;         // [T, N] int64
   torch::Tensor penalties_;      // [T, N] smoothness penalties (RegularizationConfig), dt-scaled
+  torch::Tensor travel_;         // [T, N] TravelPay (travel.weight > 0)
   torch::Tensor discriminator_obs_;     // [M, o^d], the discriminator's training samples
   torch::Tensor discriminator_labels_;  // [M] int64
 };

@@ -73,6 +73,35 @@ TEST(LibraryBar, EachFailureKeepsItUnmet) {
   EXPECT_FALSE(JudgeLibrary(e).met);
 }
 
+TEST(LibraryBar, CountsTheDirectionsOfUprightSkillsThatDoNotSlide) {
+  Evaluation e = Library();
+  EXPECT_EQ(JudgeLibrary(e).directions_within_limits, 6);
+  e.skills[4].mean_stance_foot_speed = 0.3;  // the left turn slides
+  e.skills[2].mean_base_height = 0.2;        // the left walk crouches
+  const LibraryBar bar = JudgeLibrary(e);
+  EXPECT_EQ(bar.directions_within_limits, 4);
+  EXPECT_EQ(bar.skill[static_cast<int>(Direction::kTurnLeft)], 4);  // still goes that way, outside the limits
+  EXPECT_EQ(LibraryBarJson(bar)["directions_within_limits"], 4);
+}
+
+TEST(LibraryBar, ABetterLibrarySurvivesFirstThenGoesMoreWays) {
+  const LibraryBar whole = JudgeLibrary(Library());
+  Evaluation e = Library();
+  e.skills[6].fell = true;
+  const LibraryBar one_falls = JudgeLibrary(e);
+  EXPECT_TRUE(BetterLibrary(whole, one_falls));
+  EXPECT_FALSE(BetterLibrary(one_falls, whole));
+  e = Library();
+  e.skills[3].mean_stance_foot_speed = 0.2;  // the right walk slides: five directions within the limits
+  const LibraryBar five = JudgeLibrary(e);
+  EXPECT_TRUE(BetterLibrary(whole, five));
+  EXPECT_TRUE(BetterLibrary(five, one_falls));  // all surviving beats a sixth direction
+  e = Library();
+  e.skills[0].mean_stance_foot_speed = 0.09;  // the same directions, more slip
+  EXPECT_TRUE(BetterLibrary(whole, JudgeLibrary(e)));
+  EXPECT_FALSE(BetterLibrary(whole, whole));
+}
+
 // From the shipped library's descriptors: forward 6 (0.88 m/s), backward the 1.60 m/s gallop 8,
 // left and right the pair 12 and 13 (0.76-0.79 m/s sideways, 0.26 back), turning left and right in
 // place 10 and 11 (1.50 and 1.53 rad/s, travelling 0.11 m/s). A turn in place must travel at most

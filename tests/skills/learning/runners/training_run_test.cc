@@ -21,6 +21,7 @@
 #include "robot/a1.h"
 #include "robot/observation.h"
 #include "skills/learning/evaluation/evaluation.h"
+#include "skills/learning/evaluation/library_bar.h"
 #include "server/safety.h"
 #include "skills/learning/export/export.h"
 #include "skills/learning/runners/run_folder.h"
@@ -563,6 +564,61 @@ TEST_F(TrainingRun, KeepsACheckpointEveryKeepIterationsThatEvalAndExportCanLoad)
   EXPECT_EQ(ExportRun(dir_, Path("latest.safetensors"))["iteration"], 7);
   EXPECT_THAT(InputErrorMessage([&] { RunCheckpoint(dir_, 4); }),
               HasSubstr("kept no checkpoint of iteration 4 (kept: 3, 6)"));
+}
+
+TEST_F(TrainingRun, JudgesEachKeptCheckpointAsALibraryAndNamesTheBest) {
+  const std::atomic<bool> stop{false};
+  TrainingRunOptions options;
+  options.config_path = ResolveDataPath("configs/smoke.yaml");
+  options.run_dir = dir_;
+  options.iterations = 4;
+  options.overrides = {"keep_best=true", "keep_checkpoint_every=2", "env.episode_steps=40"};
+  EXPECT_THAT(InputErrorMessage([&] { BestIteration(dir_); }), HasSubstr("has no best.json"));
+  ASSERT_EQ(RunTraining(options, stop), 0);
+  const nlohmann::json best = nlohmann::json::parse(std::ifstream(Path("best.json")));
+  ASSERT_EQ(best["judged"].size(), 2u);
+  EXPECT_EQ(best["judged"][0]["iteration"], 2);
+  EXPECT_EQ(best["judged"][1]["iteration"], 4);
+  const int chosen = best["iteration"].get<int>();
+  EXPECT_EQ(BestIteration(dir_), chosen);
+  // The best's bar is its evaluation over the export's randomised starts, and no other judged bar beats it.
+  const std::string eval_file = "eval_" + std::to_string(chosen) + "_randomized_starts" + std::to_string(kRandomizedStarts) + ".json";
+  const nlohmann::json eval = nlohmann::json::parse(std::ifstream(Path(eval_file)));
+  EXPECT_EQ(best["bar"], eval["bar"]);
+  const LibraryBar chosen_bar = LibraryBarFromJson(best["bar"], "best");
+  for (const nlohmann::json& judged : best["judged"]) {
+    EXPECT_FALSE(BetterLibrary(LibraryBarFromJson(judged["bar"], "judged"), chosen_bar)) << judged["iteration"];
+  }
+  // A resumed run that keeps more checkpoints judges them beside the others.
+  options.resume = true;
+  options.overrides.clear();
+  options.iterations = 6;
+  ASSERT_EQ(RunTraining(options, stop), 0);
+  const nlohmann::json resumed = nlohmann::json::parse(std::ifstream(Path("best.json")));
+  ASSERT_EQ(resumed["judged"].size(), 3u);
+  EXPECT_EQ(resumed["judged"][2]["iteration"], 6);
+}
+
+TEST_F(TrainingRun, TravelPaysSkillsForGoingTheirWays) {
+  const std::atomic<bool> stop{false};
+  TrainingRunOptions options;
+  options.config_path = ResolveDataPath("configs/smoke.yaml");
+  options.run_dir = dir_;
+  options.iterations = 1;
+  options.overrides = {"travel.weight=1", "travel.directions=[forward, left, turn_left, none]"};
+  ASSERT_EQ(RunTraining(options, stop), 0);
+  const std::vector<std::string> lines = Lines(Path("progress.csv"));
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_THAT(lines[0], ::testing::EndsWith(",travel_reward"));
+  EXPECT_NE(std::stod(lines[1].substr(lines[1].rfind(',') + 1)), 0.0);
+
+  // Under symmetry, a pair of skills must go mirror-image ways.
+  options.run_dir = dir_ + "_mirror";
+  options.overrides = {"travel.weight=1", "symmetry.enabled=true", "symmetry.self_paired_skills=2",
+                       "travel.directions=[left, left, forward, none]"};
+  EXPECT_THAT(InputErrorMessage([&] { RunTraining(options, stop); }),
+              AllOf(HasSubstr("travel.directions[1]"), HasSubstr("must go 'right'")));
+  fs::remove_all(options.run_dir);
 }
 
 TEST_F(TrainingRun, EvaluatesAndExportsARun) {

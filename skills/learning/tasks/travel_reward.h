@@ -1,0 +1,59 @@
+#pragma once
+// A deviation from the paper, off unless `travel.weight` > 0: each skill may be given one of the
+// library bar's six directions (evaluation/library_bar.h) and is then paid, beside the
+// discriminator's reward, for travelling that way in its own frame. The mutual-information reward
+// alone is met by any set of distinguishable behaviours, and every seed trained on it so far found
+// one longitudinal gait varied by speed and turn rate; this names the directions a library needs
+// and leaves how each skill moves, and the skills without a direction, to the discriminator.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/config.h"
+#include "robot/mirror.h"
+#include "skills/learning/evaluation/library_bar.h"
+
+namespace flsd {
+
+struct TravelConfig {
+  double weight = 0.0;        // reward per step at full pay, in the units of log q(k | o^d); 0: off
+  double speed = 0.6;         // m/s along the direction at which the pay saturates: no pay for galloping
+  double turn_scale = 0.4;    // m/rad: a turn of 1 rad/s counts as 0.4 m/s, as the bar's 1.0 rad/s to its 0.4 m/s
+  double cross_weight = 0.5;  // the pay lost per m/s of motion across the direction (turning included)
+  // One entry per skill: a direction's name (library_bar.h's kDirectionNames) or "none".
+  std::vector<std::string> directions;
+
+  bool enabled() const { return weight > 0.0; }
+  template <class V>
+  void Visit(V& v) {
+    v("weight", weight, Bounds<double>{0.0, 1000.0});
+    v("speed", speed, Bounds<double>{1e-3, 100.0});
+    v("turn_scale", turn_scale, Bounds<double>{0.0, 100.0});
+    v("cross_weight", cross_weight, Bounds<double>{0.0, 100.0});
+    v("directions", directions);
+  }
+};
+
+// The direction a skill's mirror image goes: left and right swap, as do the turns.
+Direction MirrorImage(Direction direction);
+
+using SkillDirections = std::vector<std::optional<Direction>>;  // per skill; nullopt: "none"
+
+// Each skill's direction. Throws InputError naming the entry unless there is one per skill, each
+// a direction's name or "none".
+SkillDirections ParseSkillDirections(const TravelConfig& config, int num_skills);
+// Under mirror symmetry, skill k's mirror image is a sample of its pair's: throws InputError naming
+// the entry unless every pair goes mirror-image ways (a self-paired skill forward, backward or
+// nowhere), so that a sample and its mirror image earn the same.
+void CheckMirrorImages(const SkillDirections& directions, const mirror::SkillPairing& pairing);
+
+// The pay for one step of a skill going `direction`, given its velocity in the skill's own frame
+// (x forward and y left as the robot faced when the skill began, m/s; yaw rate, rad/s):
+// weight * (min(along, speed) - cross_weight * |across|) / speed, with turning counted in metres
+// by turn_scale.
+double TravelReward(Direction direction, const std::array<double, 3>& skill_frame_velocity,
+                    const TravelConfig& config);
+
+}  // namespace flsd

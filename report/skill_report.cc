@@ -76,7 +76,13 @@ double Wz(const SkillSummary& s) { return s.mean_angular_velocity[2]; }
 
 nlohmann::json SpreadJson(const Spread& s) { return {{"min", s.min}, {"max", s.max}, {"std", s.std}}; }
 
-nlohmann::json RunJson(const ReportRun& r) {
+nlohmann::json ScaledCoverageJson(const ScaledCoverage& c) {
+  nlohmann::json dims;
+  for (int d = 0; d < kCoverageDims; ++d) dims[kCoverageRanges[d].name] = c.dim_cells[d];
+  return {{"cells_visited", c.cells_visited}, {"dim_cells", dims}};
+}
+
+nlohmann::json RunJson(const ReportRun& r, const ScaledCoverage& scaled) {
   const Evaluation& e = r.nominal;
   nlohmann::json dims = nlohmann::json::array();
   for (int d = 0; d < kCoverageDims; ++d) {
@@ -91,6 +97,7 @@ nlohmann::json RunJson(const ReportRun& r) {
           {"num_skills", e.skills.size()},
           {"coverage_rate", e.coverage.rate},
           {"cells_visited", e.coverage.cells_visited},
+          {"scaled_coverage", ScaledCoverageJson(scaled)},
           {"table_1", dims},
           {"high_frequency_ratio", e.high_frequency.pooled_ratio},
           {"high_frequency_ratio_per_skill", {{"mean", e.high_frequency.mean_ratio}, {"std", e.high_frequency.std_ratio}}},
@@ -113,6 +120,13 @@ double Mean(const std::vector<double>& v) {
   return v.empty() ? NAN : sum / v.size();
 }
 
+double Median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 // The sample standard deviation over runs (seeds); null for fewer than two.
 nlohmann::json SeedStd(const std::vector<double>& v) {
   if (v.size() < 2) return nullptr;
@@ -130,10 +144,12 @@ std::string MeanAndSpread(const nlohmann::json& method, const char* key, double 
 }
 
 // Per method, the mean over its runs of the headline numbers, and their spread over the runs.
-nlohmann::json MethodJson(const std::vector<const ReportRun*>& runs) {
-  std::vector<double> coverage, high, survivors, both, steps;
+nlohmann::json MethodJson(const std::vector<const ReportRun*>& runs,
+                          const std::map<const ReportRun*, ScaledCoverage>& scaled) {
+  std::vector<double> coverage, scaled_cells, high, survivors, both, steps;
   for (const ReportRun* r : runs) {
     coverage.push_back(r->nominal.coverage.rate);
+    scaled_cells.push_back(static_cast<double>(scaled.at(r).cells_visited));
     high.push_back(r->nominal.high_frequency.pooled_ratio);
     survivors.push_back(r->nominal.survivors);
     both.push_back(RobustSurvivors(*r));
@@ -142,7 +158,17 @@ nlohmann::json MethodJson(const std::vector<const ReportRun*>& runs) {
   return {{"runs", runs.size()},          {"coverage_rate", Mean(coverage)},   {"high_frequency_ratio", Mean(high)},
           {"survivors", Mean(survivors)}, {"survivors_both", Mean(both)},      {"env_steps", Mean(steps)},
           {"coverage_rate_per_run", coverage}, {"high_frequency_ratio_per_run", high},
-          {"coverage_rate_std", SeedStd(coverage)}, {"high_frequency_ratio_std", SeedStd(high)}};
+          {"coverage_rate_std", SeedStd(coverage)}, {"high_frequency_ratio_std", SeedStd(high)},
+          {"scaled_cells", Mean(scaled_cells)}, {"scaled_cells_per_run", scaled_cells},
+          {"scaled_cells_std", SeedStd(scaled_cells)}, {"high_frequency_ratio_median", Median(high)}};
+}
+
+// Each of the first method's runs over the second method's mean: the spread of a ratio over seeds.
+std::vector<double> RatiosPerRun(const nlohmann::json& first, const nlohmann::json& second, const char* per_run,
+                                 const char* mean) {
+  std::vector<double> ratios;
+  for (const nlohmann::json& v : first[per_run]) ratios.push_back(v.get<double>() / second[mean].get<double>());
+  return ratios;
 }
 
 std::string Svg(const std::string& dir, const std::string& name, const SvgPlot& plot) {
@@ -169,10 +195,15 @@ std::string AnswersHtml(const nlohmann::json& json) {
     << Row({"state coverage rate (Table I)", MeanAndSpread(f, "coverage_rate", 100, 2) + " %",
             MeanAndSpread(d, "coverage_rate", 100, 2) + " %", Fixed(c["coverage_ratio"].get<double>(), 2),
             "60.0 %, 25.7 %, 2.33"})
+    << Row({"state coverage, scaled reading: cells visited", MeanAndSpread(f, "scaled_cells", 1, 0),
+            MeanAndSpread(d, "scaled_cells", 1, 0), Fixed(c["scaled_coverage_ratio"].get<double>(), 2), "2.33"})
     << Row({"high-frequency power ratio (Table II)", MeanAndSpread(f, "high_frequency_ratio", 1, 3),
             MeanAndSpread(d, "high_frequency_ratio", 1, 3), Fixed(c["high_frequency_ratio"].get<double>(), 2) +
                 " (reduction " + Fixed(100 * c["high_frequency_reduction"].get<double>(), 0) + " %)",
             "199.75, 448.07, 0.45 (reduction 55 %; the text says 73 %)"})
+    << Row({"... medians over the runs", Fixed(f["high_frequency_ratio_median"].get<double>(), 3),
+            Fixed(d["high_frequency_ratio_median"].get<double>(), 3),
+            Fixed(c["high_frequency_ratio_of_medians"].get<double>(), 2), "0.45"})
     << Row({"skills surviving 500 steps", Fixed(f["survivors"].get<double>(), 1), Fixed(d["survivors"].get<double>(), 1),
             "", ""})
     << Row({"... and with the training randomisation on", Fixed(f["survivors_both"].get<double>(), 1),
@@ -182,7 +213,10 @@ std::string AnswersHtml(const nlohmann::json& json) {
     << "</table>\n"
     << "<p>Each figure is the mean over a method's runs (listed below). The coverage rate is the fraction of the "
        "4<sup>7</sup> = 16384 cells of the normalised grid (step 0.5 over the fixed ranges of <code>metrics.h</code>) "
-       "that the skills surviving 500 steps visit. The high-frequency ratio is the power of the joint-velocity "
+       "that the skills surviving 500 steps visit. The scaled reading divides each dimension by its standard "
+       "deviation over the states of every run in this report and counts cells of 0.5 deviations centred on zero "
+       "(<code>ScaledStateCoverage</code>): a still posture that jitters fills one cell per dimension, not two. "
+       "The high-frequency ratio is the power of the joint-velocity "
        "spectra above 10 Hz over their total power, all joints and skills pooled; the reduction is "
        "1 &minus; FLSD / DIAYN. The paper's Table II values are the same kind of ratio on a scale it does not state, "
        "so only the ratio of the two compares; 199.75 / 448.07 is a 55 % reduction, not the 73 % its text gives.</p>\n";
@@ -224,6 +258,25 @@ std::string TableOneHtml(const std::vector<ReportRun>& runs) {
             "-9.55", "0.40", "0.09", "", "60.00 %"})
     << Row({"paper DIAYN", "1.35", "-1.07", "0.79", "-0.88", "0.92", "-0.98", "15.61", "-15.62", "7.72", "-7.53", "5.99",
             "-6.51", "0.31", "0.10", "", "25.70 %"});
+  return h.str() + "</table>\n";
+}
+
+// Fig. 4 per dimension: the cells each run visits along each dimension alone, on the scaled grid.
+std::string ScaledCoverageHtml(const nlohmann::json& json) {
+  std::ostringstream h;
+  std::vector<std::string> header{"run"};
+  for (const CoverageRange& r : kCoverageRanges) header.push_back(r.name);
+  header.push_back("7-D cells");
+  h << "<p>The scaled reading, per dimension: cells of half a pooled standard deviation visited along each "
+       "dimension alone (deviations:";
+  for (int d = 0; d < kCoverageDims; ++d) h << " " << kCoverageRanges[d].name << " " << Fixed(json["coverage_scales"][d].get<double>(), 3);
+  h << ").</p>\n<table>\n" << Row(header, true);
+  for (const nlohmann::json& run : json["runs"]) {
+    std::vector<std::string> row{Escape(run["label"].get<std::string>())};
+    for (const CoverageRange& r : kCoverageRanges) row.push_back(run["scaled_coverage"]["dim_cells"][r.name].dump());
+    row.push_back(run["scaled_coverage"]["cells_visited"].dump());
+    h << Row(row);
+  }
   return h.str() + "</table>\n";
 }
 
@@ -371,19 +424,33 @@ int RobustSurvivors(const ReportRun& r) {
 nlohmann::json ReportJson(const std::vector<ReportRun>& runs) {
   nlohmann::json json;
   json["runs"] = nlohmann::json::array();
+  // The second reading of coverage: every run on the grid of the deviations pooled over all of them.
+  std::vector<const std::vector<SkillTrajectory>*> trajectories;
+  for (const ReportRun& r : runs) trajectories.push_back(&r.nominal.trajectories);
+  const CoverageScales scales = PooledCoverageScales(trajectories);
+  json["coverage_scales"] = scales;
+  std::map<const ReportRun*, ScaledCoverage> scaled;
   std::map<std::string, std::vector<const ReportRun*>> by_method;
   for (const ReportRun& r : runs) {
-    json["runs"].push_back(RunJson(r));
+    scaled[&r] = ScaledStateCoverage(r.nominal.trajectories, scales);
+    json["runs"].push_back(RunJson(r, scaled[&r]));
     by_method[r.method].push_back(&r);
   }
-  for (const auto& [method, members] : by_method) json["methods"][method] = MethodJson(members);
+  for (const auto& [method, members] : by_method) json["methods"][method] = MethodJson(members, scaled);
   if (by_method.count("flsd") && by_method.count("diayn")) {
     const nlohmann::json& f = json["methods"]["flsd"];
     const nlohmann::json& d = json["methods"]["diayn"];
     const double high = f["high_frequency_ratio"].get<double>() / d["high_frequency_ratio"].get<double>();
     json["comparison"] = {
         {"coverage_ratio", f["coverage_rate"].get<double>() / d["coverage_rate"].get<double>()},
+        {"coverage_ratio_per_flsd_run", RatiosPerRun(f, d, "coverage_rate_per_run", "coverage_rate")},
+        {"scaled_coverage_ratio", f["scaled_cells"].get<double>() / d["scaled_cells"].get<double>()},
+        {"scaled_coverage_ratio_per_flsd_run", RatiosPerRun(f, d, "scaled_cells_per_run", "scaled_cells")},
         {"high_frequency_ratio", high},
+        {"high_frequency_ratio_per_flsd_run",
+         RatiosPerRun(f, d, "high_frequency_ratio_per_run", "high_frequency_ratio")},
+        {"high_frequency_ratio_of_medians",
+         f["high_frequency_ratio_median"].get<double>() / d["high_frequency_ratio_median"].get<double>()},
         {"high_frequency_reduction", 1.0 - high},
         {"budget_ratio", f["env_steps"].get<double>() / d["env_steps"].get<double>()},
         {"paper", {{"coverage_ratio", kPaperCoverageFlsd / kPaperCoverageDiayn},
@@ -412,7 +479,7 @@ void WriteSkillReport(const std::vector<ReportRun>& runs, const std::string& dir
        << "<h2>FLSD against DIAYN</h2>\n"
        << AnswersHtml(json) << "<h2>Runs</h2>\n"
        << RunsHtml(runs) << "<h2>Table I: state space coverage</h2>\n"
-       << TableOneHtml(runs) << "<h2>Table II: high-frequency power, and survival</h2>\n"
+       << TableOneHtml(runs) << ScaledCoverageHtml(json) << "<h2>Table II: high-frequency power, and survival</h2>\n"
        << TableTwoHtml(runs) << "<h2>Mean velocities of the surviving skills</h2>\n"
        << "<p>Directions: skills surviving 500 steps with v_x &ge; 0.3 m/s (forward), v_x &le; &minus;0.3 (backward), "
           "|v_y| &ge; 0.3 (sideways), |w_z| &ge; 0.5 rad/s (turning).</p>\n"

@@ -101,6 +101,32 @@ TEST(SkillReport, GivesEachMethodsSpreadOverItsSeeds) {
   EXPECT_EQ(flsd["coverage_rate_per_run"].size(), 2u);
 }
 
+// The scaled reading: every run on one grid of the deviations pooled over all runs. Base heights
+// (0.25, 0.26, 0.27 m by skill) pool to a deviation of 0.0075 m, so each skill is its own cell:
+// DIAYN's two still skills fill two, FLSD's three movers three. HF medians of each method's runs.
+TEST(SkillReport, ReadsCoverageOnThePooledScaledGridAndGivesMedians) {
+  std::vector<ReportRun> runs = TwoMethods();
+  runs.push_back(::flsd::Run("flsd_s2", "flsd", {Moving(0, 600, 0.0, 0.0, 0.0, 2)}, {Moving(0, 600, 0.0, 0.0, 0.0, 2)}));
+  const nlohmann::json json = ReportJson(runs);
+  std::vector<const std::vector<SkillTrajectory>*> all;
+  for (const ReportRun& r : runs) all.push_back(&r.nominal.trajectories);
+  const CoverageScales scales = PooledCoverageScales(all);
+  for (int d = 0; d < kCoverageDims; ++d) EXPECT_DOUBLE_EQ(json["coverage_scales"][d].get<double>(), scales[d]);
+  EXPECT_NEAR(scales[6], 0.0075, 1e-4);
+  EXPECT_EQ(json["runs"][1]["scaled_coverage"]["cells_visited"], 2);
+  EXPECT_EQ(json["runs"][1]["scaled_coverage"]["dim_cells"]["lin_vel_x"], 1);
+  EXPECT_EQ(json["runs"][0]["scaled_coverage"]["cells_visited"], 3);
+  EXPECT_EQ(json["runs"][0]["scaled_coverage"]["dim_cells"]["lin_vel_x"], 3);  // 0.5, -0.4 and 0 m/s
+  EXPECT_EQ(json["runs"][2]["scaled_coverage"]["cells_visited"], 1);
+  const nlohmann::json& c = json["comparison"];
+  EXPECT_DOUBLE_EQ(c["scaled_coverage_ratio"].get<double>(), (3.0 + 1.0) / 2 / 2.0);
+  EXPECT_EQ(c["scaled_coverage_ratio_per_flsd_run"], nlohmann::json({1.5, 0.5}));
+  const double h1 = runs[0].nominal.high_frequency.pooled_ratio, h2 = runs[2].nominal.high_frequency.pooled_ratio;
+  EXPECT_DOUBLE_EQ(json["methods"]["flsd"]["high_frequency_ratio_median"].get<double>(), (h1 + h2) / 2);
+  EXPECT_DOUBLE_EQ(c["high_frequency_ratio_of_medians"].get<double>(),
+                   (h1 + h2) / 2 / runs[1].nominal.high_frequency.pooled_ratio);
+}
+
 TEST(SkillReport, CountsSurvivorsWithinTheJointSpeedLimit) {
   std::vector<ReportRun> runs = TwoMethods();
   EXPECT_EQ(ReportJson(runs)["runs"][0]["survivors_within_joint_speed_limit"].get<int>(), 3);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <functional>
+#include <set>
 #include <unordered_set>
 
 #include "robot/joint_limit_timer.h"
@@ -86,6 +88,52 @@ CoverageResult StateCoverage(const std::vector<SkillTrajectory>& skills) {
   r.cells_visited = static_cast<long>(cells.size());
   r.rate = static_cast<double>(r.cells_visited) / static_cast<double>(r.cells_total);
   for (int d = 0; d < kCoverageDims; ++d) r.dim_rate[d] = double(dim_cells[d].size()) / CellsPerDim();
+  return r;
+}
+
+CoverageScales PooledCoverageScales(const std::vector<const std::vector<SkillTrajectory>*>& runs) {
+  // Two passes, so that a dimension that never varies has a deviation of exactly zero.
+  auto over_states = [&](const std::function<void(const std::array<double, kCoverageDims>&)>& visit) {
+    for (const std::vector<SkillTrajectory>* run : runs) {
+      for (const SkillTrajectory& s : *run) {
+        if (!Survives(SurvivalSteps(s))) continue;
+        for (const TrajectoryPoint& p : s.points) visit(CoverageState(p));
+      }
+    }
+  };
+  std::array<double, kCoverageDims> mean{}, variance{};
+  double count = 0.0;
+  over_states([&](const std::array<double, kCoverageDims>& x) {
+    for (int d = 0; d < kCoverageDims; ++d) mean[d] += x[d];
+    count += 1.0;
+  });
+  for (double& m : mean) m = count > 0.0 ? m / count : 0.0;
+  over_states([&](const std::array<double, kCoverageDims>& x) {
+    for (int d = 0; d < kCoverageDims; ++d) variance[d] += (x[d] - mean[d]) * (x[d] - mean[d]) / count;
+  });
+  CoverageScales scales;
+  for (int d = 0; d < kCoverageDims; ++d) scales[d] = variance[d] > 1e-18 ? std::sqrt(variance[d]) : 1.0;
+  return scales;
+}
+
+ScaledCoverage ScaledStateCoverage(const std::vector<SkillTrajectory>& skills, const CoverageScales& scales) {
+  std::set<std::array<long, kCoverageDims>> cells;
+  std::array<std::set<long>, kCoverageDims> dim_cells;
+  for (const SkillTrajectory& s : skills) {
+    if (!Survives(SurvivalSteps(s))) continue;
+    for (const TrajectoryPoint& p : s.points) {
+      const std::array<double, kCoverageDims> x = CoverageState(p);
+      std::array<long, kCoverageDims> cell;
+      for (int d = 0; d < kCoverageDims; ++d) {
+        cell[d] = std::lround(x[d] / scales[d] / kCoverageCell);  // cell 0 is [-0.25, 0.25) deviations
+        dim_cells[d].insert(cell[d]);
+      }
+      cells.insert(cell);
+    }
+  }
+  ScaledCoverage r;
+  r.cells_visited = static_cast<long>(cells.size());
+  for (int d = 0; d < kCoverageDims; ++d) r.dim_cells[d] = static_cast<long>(dim_cells[d].size());
   return r;
 }
 

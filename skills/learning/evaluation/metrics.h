@@ -8,6 +8,11 @@
 // same grid: 4 cells per dimension, 4^7 = 16384 cells in all; the coverage rate is the fraction of
 // them that the trajectories of the skills surviving more than 500 steps visit.
 //
+// The paper's "normalised in each dimension" read a second way (ScaledStateCoverage): each dimension
+// divided by its standard deviation over the states of all the runs compared, cells of 0.5 of it
+// centred on zero. A still robot whose velocities jitter by less than a quarter of a deviation then
+// fills one cell per dimension, where on the fixed grid a jitter about zero fills two.
+//
 // High-frequency power ratio (Table II): the one-sided power spectrum of each joint velocity
 // trajectory by DFT; the ratio is the power above 10 Hz over the total power (DC included),
 // summed over the joints and skills pooled, and also averaged per skill.
@@ -65,6 +70,17 @@ struct CoverageResult {
   std::array<double, kCoverageDims> dim_rate{};    // 1-D coverage of each dimension alone
 };
 CoverageResult StateCoverage(const std::vector<SkillTrajectory>& skills);
+
+// Per dimension, the standard deviation of the coverage states of the surviving skills of every
+// run given, pooled (1 where a dimension does not vary, so that its one value is one cell).
+using CoverageScales = std::array<double, kCoverageDims>;
+CoverageScales PooledCoverageScales(const std::vector<const std::vector<SkillTrajectory>*>& runs);
+struct ScaledCoverage {
+  long cells_visited = 0;                          // of the 7-D grid
+  std::array<long, kCoverageDims> dim_cells{};     // Fig. 4: cells along each dimension alone
+};
+// The surviving skills' states divided by `scales`, counted on cells of kCoverageCell centred on zero.
+ScaledCoverage ScaledStateCoverage(const std::vector<SkillTrajectory>& skills, const CoverageScales& scales);
 // A point's coverage dimensions mapped by kCoverageRanges to [-1, 1] (not clamped).
 std::array<double, kCoverageDims> NormalizedCoverageState(const TrajectoryPoint& p);
 

@@ -197,6 +197,56 @@ TEST(StateCoverage, ExtremesPerDimensionOverCountedSkillsOnly) {
   }
 }
 
+// A still posture whose six velocities jitter by +-0.01 about zero, base at 0.3 m.
+SkillTrajectory Jittering(int n) {
+  return Trajectory(n, [](int i, TrajectoryPoint& p) {
+    const double jitter = i % 2 == 0 ? 0.01 : -0.01;
+    p.linear_velocity = {jitter, jitter, jitter};
+    p.angular_velocity = {jitter, jitter, jitter};
+    p.base_height = 0.3;
+  });
+}
+
+TEST(ScaledStateCoverage, AStillPostureThatJittersFillsOneCellPerDimension) {
+  // On the fixed grid the jitter about zero fills two cells of each velocity dimension.
+  const CoverageResult fixed = StateCoverage({Jittering(600)});
+  EXPECT_DOUBLE_EQ(fixed.dim_rate[0], 0.5);
+  EXPECT_EQ(fixed.cells_visited, 2);
+  // Beside a walk (0 to 2 m/s forward, its body swaying by 0.5 m/s and rad/s at 2 Hz), scaled by
+  // the pooled deviations.
+  const std::vector<SkillTrajectory> still = {Jittering(600)};
+  const std::vector<SkillTrajectory> walk = {Trajectory(600, [](int i, TrajectoryPoint& p) {
+    const double sway = At(0.5, 2.0, i, 0.0);
+    p.linear_velocity = {2.0 * i / 599.0, sway, sway};
+    p.angular_velocity = {sway, sway, sway};
+    p.base_height = 0.3;
+  })};
+  const CoverageScales scales = PooledCoverageScales({&still, &walk});
+  const ScaledCoverage r = ScaledStateCoverage(still, scales);
+  EXPECT_EQ(r.cells_visited, 1);
+  for (int d = 0; d < kCoverageDims; ++d) EXPECT_EQ(r.dim_cells[d], 1) << kCoverageRanges[d].name;
+  EXPECT_GT(ScaledStateCoverage(walk, scales).dim_cells[0], 1);
+}
+
+TEST(ScaledStateCoverage, CellsAreHalfAPooledDeviationCentredOnZero) {
+  // Two constant skills at vx = 0 and 1 m/s: a pooled deviation of 0.5 m/s, so vx / 0.5 is 0 and 2,
+  // cells 0 and 4; along every other dimension one value, scale 1.
+  const std::vector<SkillTrajectory> run = {ConstantState(600, 0.0), ConstantState(600, 1.0)};
+  const CoverageScales scales = PooledCoverageScales({&run});
+  EXPECT_NEAR(scales[0], 0.5, 1e-12);
+  for (int d = 1; d < kCoverageDims; ++d) EXPECT_EQ(scales[d], 1.0) << kCoverageRanges[d].name;
+  EXPECT_EQ(ScaledStateCoverage(run, scales).cells_visited, 2);
+  // A ramp from 0 to 1 m/s crosses cells 0..4 (0.125 m/s either side of 0, 0.25, 0.5, 0.75, 1.0).
+  const std::vector<SkillTrajectory> ramp = {Trajectory(600, [](int i, TrajectoryPoint& p) {
+    p.linear_velocity[0] = i / 599.0;
+  })};
+  EXPECT_EQ(ScaledStateCoverage(ramp, scales).dim_cells[0], 5);
+  // Only skills that survive more than 500 steps count, in the scales as in the cells.
+  const std::vector<SkillTrajectory> short_lived = {ConstantState(100, 50.0)};
+  EXPECT_NEAR(PooledCoverageScales({&run, &short_lived})[0], 0.5, 1e-12);
+  EXPECT_EQ(ScaledStateCoverage(short_lived, scales).cells_visited, 0);
+}
+
 TEST(SummarizeSkill, MeansAndDisplacementByHand) {
   SkillTrajectory s = Trajectory(4, [](int i, TrajectoryPoint& p) {
     p.linear_velocity = {1.0 * i, -2.0, 0.5 * i * i};  // x: 0 1 2 3, z: 0 0.5 2 4.5

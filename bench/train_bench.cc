@@ -66,11 +66,13 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
   const double collective_seconds = comm.Sum(collectives.seconds) / comm.size();  // per rank, mean
   if (!comm.leader()) return nullptr;
   auto share = [&](double part) { return part / sum.seconds_total; };
+  // A phase that did not run (no PAE for DIAYN, say) has no rate: 0, not 0 / 0.
   auto arithmetic = [&](double seconds, double giga) {
+    const double rate = seconds > 0.0 ? giga / seconds : 0.0;
     return nlohmann::json{{"seconds_per_iteration", seconds / options.iterations},
                           {"gflop_per_iteration", giga / options.iterations},
-                          {"gflops", giga / seconds},
-                          {"of_sgemm", giga / seconds / sgemm}};
+                          {"gflops", rate},
+                          {"of_sgemm", rate / sgemm}};
   };
   return {
       {"benchmark", "train"},

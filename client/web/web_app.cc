@@ -243,7 +243,7 @@ void WebApp::Login(const httplib::Request& request, httplib::Response& response)
   }
   std::shared_ptr<Session> session;
   try {
-    session = sessions_.Open(user->second, Connect(user->second));
+    session = sessions_.Open(user->second, [&] { return Connect(user->second); });
   } catch (const std::exception& e) {
     return Refuse(response, 503, std::string("cannot connect this page to skilld: ") + e.what());
   }

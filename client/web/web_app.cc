@@ -163,7 +163,8 @@ void WebApp::Mount(httplib::Server& server) {
     Refuse(res, 403, "request from another site or host name");
     return httplib::Server::HandlerResponse::Handled;
   });
-  server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr error) {
+  // What went wrong inside stays in skillweb's log: it may name files, hosts or library internals.
+  server.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr error) {
     std::string what = "unknown error";
     try {
       std::rethrow_exception(error);
@@ -171,7 +172,9 @@ void WebApp::Mount(httplib::Server& server) {
       what = e.what();
     } catch (...) {
     }
-    Refuse(res, 500, what);
+    std::fprintf(stderr, "skillweb: %s %s failed: %s\n", req.method.c_str(), OneLine(req.path).c_str(),
+                 OneLine(what).c_str());
+    Refuse(res, 500, "internal error: skillweb's log says more");
   });
 
   const auto file = [](std::string path, std::string type) {
@@ -245,7 +248,8 @@ void WebApp::Login(const httplib::Request& request, httplib::Response& response)
   try {
     session = sessions_.Open(user->second, [&] { return Connect(user->second); });
   } catch (const std::exception& e) {
-    return Refuse(response, 503, std::string("cannot connect this page to skilld: ") + e.what());
+    AuditLine(request, "login", "user '" + OneLine(name) + "': cannot connect its client: " + OneLine(e.what()));
+    return Refuse(response, 503, "cannot connect this page to skilld: skillweb's log says why");
   }
   if (!session) return Refuse(response, 503, "too many open sessions: log out elsewhere, or wait for one to expire");
   AuditLine(request, session->Describe(), "logged in");

@@ -9,7 +9,6 @@
 
 #include <cstdio>
 #include <exception>
-#include <filesystem>
 #include <iostream>
 
 #include "client/client.h"
@@ -128,7 +127,7 @@ int main(int argc, char** argv) {
     options.pki_dir = pki_dir;
     options.sessions.idle = std::chrono::minutes(session_minutes);
     options.client = client;
-    options.agent_program = std::filesystem::read_symlink("/proc/self/exe").string();
+    options.agent_program = flsd::ProgramPath();
     flsd::web::WebApp web(options);
     const int port = web.Listen(listen);
     const std::string who = options.users ? std::to_string(options.users->size()) + " users, a login per page"

@@ -1,9 +1,9 @@
 #include "bench/soak_bench.h"
 
 #include <signal.h>
-#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +13,7 @@
 #include <memory>
 #include <regex>
 #include <sstream>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -42,12 +43,14 @@ std::string ReadText(const fs::path& path) {
   return text.str();
 }
 
-// A folder for the run's files, removed at the end.
+// A folder for the run's files, removed at the end: a new one of its own (mkdtemp: mode 0700), as
+// it holds the run's private keys, and a name known in advance could be taken by another user.
 class RunFolder {
  public:
-  RunFolder() : path_(fs::temp_directory_path() / ("flsd-soak-" + std::to_string(getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
+  RunFolder() {
+    std::string name = (fs::temp_directory_path() / "flsd-soak-XXXXXX").string();
+    if (mkdtemp(name.data()) == nullptr) throw std::system_error(errno, std::generic_category(), "mkdtemp " + name);
+    path_ = name;
   }
   ~RunFolder() {
     std::error_code ignored;

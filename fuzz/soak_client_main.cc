@@ -21,6 +21,12 @@ int main(int argc, char** argv) {
   app.add_option("--rate", o.rate_hz, "Requests per second")->check(CLI::Range(1.0, 500.0));
   app.add_flag("--light-maps", light_maps, "Leave out the heavy maps");
   app.add_flag("--no-reset", no_reset, "The server cannot reset the robot (the hw backend)");
+  app.add_option("--lease-timeout", o.lease_timeout, "The server's lease_timeout (s), from its config")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-duration", o.max_duration, "The server's max_duration (s), from its config")
+      ->required()
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   o.heavy_maps = !light_maps;
   o.can_reset = !no_reset;

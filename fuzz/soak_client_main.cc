@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "core/config.h"
+#include "comm/security.h"
 #include "fuzz/soak_client.h"
 
 int main(int argc, char** argv) {
@@ -31,9 +31,7 @@ int main(int argc, char** argv) {
   o.heavy_maps = !light_maps;
   o.can_reset = !no_reset;
   try {
-    if (!security_file.empty()) {
-      o.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
-    }
+    if (!security_file.empty()) o.security = flsd::dds::LoadSecurityFile(security_file);
     std::printf("%s\n", flsd::fuzz::RunSoakClient(o).dump().c_str());
     return 0;
   } catch (const std::exception& e) {

@@ -17,7 +17,6 @@
 #include "client/web/users_file.h"
 #include "client/web/web_app.h"
 #include "core/check.h"
-#include "core/config.h"
 #include "core/paths.h"
 #include "core/signals.h"
 
@@ -104,11 +103,7 @@ int main(int argc, char** argv) {
       AddUser(users_file, add_user, role, identity);
       return 0;
     }
-    if (!security_file.empty()) {
-      client.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
-      const std::string error = flsd::dds::SecurityFilesError(client.security, security_file + ":");
-      if (!error.empty()) throw flsd::InputError(error);
-    }
+    if (!security_file.empty()) client.security = flsd::dds::LoadSecurityFile(security_file);
     if (page_agent) {
       client.read_only = read_only;
       return flsd::web::RunPageAgent(client);

@@ -13,7 +13,6 @@
 #include "client/web/page_agent.h"
 #include "client/web/web_json.h"
 #include "core/check.h"
-#include "core/config.h"
 #include "robot/a1.h"
 
 namespace flsd::web {
@@ -114,13 +113,11 @@ WebApp::WebApp(WebAppOptions options)
     const std::string file = options_.pki_dir + "/" + user.identity + "/security.yaml";
     dds::SecurityConfig security;
     try {
-      security = LoadConfigSection<dds::SecurityConfig>(file, "security");
+      security = dds::LoadSecurityFile(file);
     } catch (const std::exception& e) {
       throw InputError(where + "identity " + user.identity + ": " + e.what());
     }
     if (!security.enabled) throw InputError(where + file + ": security.enabled is not true");
-    const std::string error = dds::SecurityFilesError(security, where + file + ":");
-    if (!error.empty()) throw InputError(error);
     identities_[name] = file;
   }
 }

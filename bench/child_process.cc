@@ -11,13 +11,14 @@
 #include <thread>
 
 #include "core/check.h"
+#include "core/paths.h"
 
 extern char** environ;
 
 namespace flsd {
 
 std::string SiblingProgram(const std::string& name) {
-  return (std::filesystem::read_symlink("/proc/self/exe").parent_path() / name).string();
+  return (std::filesystem::path(ProgramPath()).parent_path() / name).string();
 }
 
 ChildProcess::ChildProcess(const std::vector<std::string>& args, const std::string& out_path,

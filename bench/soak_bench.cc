@@ -1,9 +1,9 @@
 #include "bench/soak_bench.h"
 
 #include <signal.h>
-#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +13,7 @@
 #include <memory>
 #include <regex>
 #include <sstream>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "bench/stats.h"
 #include "core/check.h"
 #include "core/paths.h"
+#include "server/server_config.h"
 
 namespace flsd {
 namespace {
@@ -42,12 +44,14 @@ std::string ReadText(const fs::path& path) {
   return text.str();
 }
 
-// A folder for the run's files, removed at the end.
+// A folder for the run's files, removed at the end: a new one of its own (mkdtemp: mode 0700), as
+// it holds the run's private keys, and a name known in advance could be taken by another user.
 class RunFolder {
  public:
-  RunFolder() : path_(fs::temp_directory_path() / ("flsd-soak-" + std::to_string(getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
+  RunFolder() {
+    std::string name = (fs::temp_directory_path() / "flsd-soak-XXXXXX").string();
+    if (mkdtemp(name.data()) == nullptr) throw std::system_error(errno, std::generic_category(), "mkdtemp " + name);
+    path_ = name;
   }
   ~RunFolder() {
     std::error_code ignored;
@@ -167,6 +171,8 @@ nlohmann::json RunSoakBenchmark(const SoakBenchOptions& o) {
   const fs::path config = folder / "server.yaml";
   std::ofstream(config) << SoakServerConfig(o, port, folder / "pki");
   SkilldProcess skilld(o.library, config.string(), o.domain_id, "soak", o.backend);
+  // The clients' oracle knows the lease and the motions' limit as skilld reads them.
+  const ServerConfig server = LoadServerConfig(config.string());
 
   std::unique_ptr<ChildProcess> training;
   if (o.beside_training) {
@@ -180,7 +186,9 @@ nlohmann::json RunSoakBenchmark(const SoakBenchOptions& o) {
     std::vector<std::string> args = {SiblingProgram("soak_client"), "--domain", std::to_string(o.domain_id),
                                      "--partition", skilld.partition(), "--name", ClientName(i),
                                      "--seed", std::to_string(o.seed * 1000 + i), "--seconds", std::to_string(run_seconds),
-                                     "--rate", std::to_string(o.rate_hz)};
+                                     "--rate", std::to_string(o.rate_hz),
+                                     "--lease-timeout", std::to_string(server.lease_timeout),
+                                     "--max-duration", std::to_string(server.max_duration)};
     if (o.security) args.insert(args.end(), {"--security", (folder / "pki" / ClientName(i) / "security.yaml").string()});
     if (!o.heavy_maps) args.push_back("--light-maps");
     if (o.backend == "hw") args.push_back("--no-reset");
@@ -217,7 +225,8 @@ nlohmann::json RunSoakBenchmark(const SoakBenchOptions& o) {
     for (std::string line; std::getline(progress, line);) ++training_iterations;  // the header is not one
   }
 
-  nlohmann::json total = {{"requests", 0}, {"answered", 0}, {"dropped", 0}, {"wrong", 0}, {"state_checks", 0}};
+  nlohmann::json total = {{"requests", 0}, {"answered", 0}, {"dropped", 0},
+                          {"late", 0},     {"wrong", 0},    {"state_checks", 0}};
   nlohmann::json wrong_examples = nlohmann::json::array(), dropped_examples = nlohmann::json::array();
   nlohmann::json statuses = nlohmann::json::object();
   std::vector<double> damp_ms;
@@ -232,7 +241,7 @@ nlohmann::json RunSoakBenchmark(const SoakBenchOptions& o) {
       crashes.push_back(name + ": " + DescribeExit(status) + ": " + ReadText(folder / (name + ".err")).substr(0, 500));
       continue;
     }
-    for (const char* key : {"requests", "answered", "dropped", "wrong", "state_checks"}) {
+    for (const char* key : {"requests", "answered", "dropped", "late", "wrong", "state_checks"}) {
       total[key] = total[key].get<int64_t>() + tally[key].get<int64_t>();
     }
     AddExamples(wrong_examples, tally["wrong_examples"]);
@@ -268,6 +277,7 @@ nlohmann::json RunSoakBenchmark(const SoakBenchOptions& o) {
       {"wrong_examples", wrong_examples},
       {"dropped", total["dropped"]},
       {"dropped_examples", dropped_examples},
+      {"late_replies", total["late"]},
       {"crashes", crashes.size()},
       {"crash_details", crashes},
       {"statuses", statuses},

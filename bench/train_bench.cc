@@ -4,7 +4,6 @@
 
 #include <array>
 #include <cstdio>
-#include <filesystem>
 
 #include "bench/learning_arithmetic.h"
 #include "bench/machine.h"
@@ -134,7 +133,7 @@ nlohmann::json RunJsonCommand(const std::string& command) {
 }  // namespace
 
 nlohmann::json RunMpiBenchmark(const MpiBenchOptions& options) {
-  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  const std::string self = ProgramPath();
   std::string train = " bench train --json --config " + options.train.config + " --iterations " +
                       std::to_string(options.train.iterations);
   if (!options.train.method.empty()) train += " --method " + options.train.method;

@@ -15,7 +15,6 @@
 #include "client/client.h"
 #include "client/navigation_picture.h"
 #include "comm/protocol.h"
-#include "core/config.h"
 
 namespace {
 
@@ -223,9 +222,7 @@ int main(int argc, char** argv) {
       map_yaml = text.str();
     }
     if (!security_file.empty()) {
-      options.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
-      const std::string error = flsd::dds::SecurityFilesError(options.security, security_file + ":");
-      if (!error.empty()) throw flsd::InputError(error);
+      options.security = flsd::dds::LoadSecurityFile(security_file);
       bench_options.security = options.security;
     }
     flsd::Client client(options);

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "comm/dds.h"
+#include "core/check.h"
+#include "core/config.h"
 
 namespace flsd::dds {
 namespace {
@@ -62,6 +64,12 @@ std::string SecurityFilesError(const SecurityConfig& config, const std::string& 
            "; a private key must be readable by its owner only (chmod 600)";
   }
   return "";
+}
+
+SecurityConfig LoadSecurityFile(const std::string& path) {
+  const SecurityConfig config = LoadConfigSection<SecurityConfig>(path, "security");
+  if (const std::string error = SecurityFilesError(config, path + ":"); !error.empty()) throw InputError(error);
+  return config;
 }
 
 void SetSecurityQos(dds_qos_t* qos, const SecurityConfig& config) {

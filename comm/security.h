@@ -23,6 +23,11 @@ namespace flsd::dds {
 // unreadable, a private key readable by anyone but its owner); empty if nothing is.
 std::string SecurityFilesError(const SecurityConfig& config, const std::string& where);
 
+// A participant's security file (an identity's security.yaml from scripts/make_pki.sh): its
+// security: section, whose files, when enabled, pass SecurityFilesError. InputError naming the
+// file otherwise.
+SecurityConfig LoadSecurityFile(const std::string& path);
+
 // Adds the dds.sec.* properties of an enabled config to a participant's QoS.
 void SetSecurityQos(dds_qos_t* qos, const SecurityConfig& config);
 

@@ -22,4 +22,13 @@ std::string ResolveDataPath(const std::string& path) {
   throw InputError("file not found: '" + path + "' (tried " + tried + ")");
 }
 
+std::string ProgramPath(const std::string& exe_link) {
+  static const std::string kDeleted = " (deleted)";
+  std::string path = std::filesystem::read_symlink(exe_link).string();
+  const bool deleted = path.size() > kDeleted.size() &&
+                       path.compare(path.size() - kDeleted.size(), kDeleted.size(), kDeleted) == 0;
+  if (deleted && !std::filesystem::exists(path)) path.resize(path.size() - kDeleted.size());
+  return path;
+}
+
 }  // namespace flsd

@@ -26,6 +26,7 @@ bool RawClient::WaitForServer(std::chrono::milliseconds timeout) {
     ++probe.request_id;
     if (requests_.matched_readers() > 0 && replies_.matched_writers() > 0 &&
         Call(probe, std::chrono::milliseconds(200))) {
+      unanswered_.clear();  // probes sent before discovery settled: no late replies of the caller's
       return true;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -34,7 +35,7 @@ bool RawClient::WaitForServer(std::chrono::milliseconds timeout) {
 }
 
 void RawClient::Send(const RawRequest& r) {
-  outstanding_[{r.client_id, r.request_id}].reset();
+  outstanding_[{r.client_id, r.request_id}].clear();
   flsd_msgs_Request m{};
   m.header.client_id = const_cast<char*>(r.client_id.c_str());
   m.header.request_id = r.request_id;
@@ -50,9 +51,13 @@ void RawClient::Send(const RawRequest& r) {
 
 void RawClient::TakeReplies() {
   replies_.Take([&](const flsd_msgs_Reply& m, const dds_sample_info_t&) {
-    const auto it = outstanding_.find({Text(m.header.client_id), m.header.request_id});
-    if (it == outstanding_.end()) return;  // another client's, or one already awaited
-    RawReply& r = it->second.emplace();
+    const Key key{Text(m.header.client_id), m.header.request_id};
+    const auto it = outstanding_.find(key);
+    if (it == outstanding_.end()) {
+      CountLate(key);  // if late; else another client's, or one already awaited
+      return;
+    }
+    RawReply& r = it->second.emplace_back();
     r.status = m.status;
     r.message = Text(m.message);
     r.safety_report = Text(m.safety_report);
@@ -60,19 +65,36 @@ void RawClient::TakeReplies() {
   }, 1 << 20);
 }
 
+bool RawClient::CountLate(const Key& key) {
+  const auto it = unanswered_.find(key);
+  if (it == unanswered_.end()) return false;
+  ++late_replies_;
+  if (--it->second == 0) unanswered_.erase(it);
+  return true;
+}
+
 std::optional<RawReply> RawClient::Await(const std::string& client_id, uint64_t request_id,
-                                         std::chrono::milliseconds timeout) {
-  const auto it = outstanding_.find({client_id, request_id});
+                                         std::chrono::milliseconds timeout,
+                                         const std::function<bool(const RawReply&)>& belongs) {
+  const Key key{client_id, request_id};
+  const auto it = outstanding_.find(key);
   if (it == outstanding_.end()) return std::nullopt;
   const auto until = std::chrono::steady_clock::now() + timeout;
+  std::optional<RawReply> reply;
   for (;;) {
     TakeReplies();
+    for (std::deque<RawReply>& came = it->second; !reply && !came.empty(); came.pop_front()) {
+      const bool late = belongs && !belongs(came.front()) && CountLate(key);
+      if (!late) reply = std::move(came.front());
+    }
     const auto now = std::chrono::steady_clock::now();
-    if (it->second || now >= until) break;
+    if (reply || now >= until) break;
     replies_.Wait(until - now);
   }
-  std::optional<RawReply> reply = std::move(it->second);
+  // A reply beside this one answers an earlier request with the same ids.
+  for (std::size_t i = 0; i < it->second.size(); ++i) CountLate(key);
   outstanding_.erase(it);
+  if (!reply) ++unanswered_[key];
   return reply;
 }
 

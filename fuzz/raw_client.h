@@ -7,6 +7,8 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -66,8 +68,11 @@ class RawClient {
   void Send(const RawRequest& r);
 
   // The reply to (client_id, request_id) of a request sent before, or nullopt after `timeout`.
-  // Replies to requests not sent from here, or already awaited, are not kept.
-  std::optional<RawReply> Await(const std::string& client_id, uint64_t request_id, std::chrono::milliseconds timeout);
+  // Replies to requests not sent from here, or already awaited, are not kept. A request given up
+  // on may still be answered, after another with the same ids was sent: a reply `belongs` refuses
+  // is then taken for the late one (counted in late_replies()), and the wait goes on.
+  std::optional<RawReply> Await(const std::string& client_id, uint64_t request_id, std::chrono::milliseconds timeout,
+                                const std::function<bool(const RawReply&)>& belongs = nullptr);
 
   std::optional<RawReply> Call(const RawRequest& r, std::chrono::milliseconds timeout = std::chrono::seconds(2)) {
     Send(r);
@@ -94,6 +99,12 @@ class RawClient {
   // Takes every state sample kept unread; the newest of them, if any.
   std::optional<RawState> TakeLatestState();
 
+  // Replies so far to requests Await had given up on (WaitForServer's probes aside).
+  int64_t late_replies() {
+    TakeReplies();
+    return late_replies_;
+  }
+
  private:
   using Key = std::pair<std::string, uint64_t>;
   template <class F>
@@ -103,13 +114,18 @@ class RawClient {
   }
   static RawState Own(const flsd_msgs_RobotState& m, const dds_sample_info_t& info);
   void TakeReplies();
+  // Whether a request with `key` went unanswered and may be answered still; if so, this reply is
+  // counted as its late one.
+  bool CountLate(const Key& key);
 
   dds::Domain domain_;
   dds::Writer<flsd_msgs_Request> requests_;
   dds::Reader<flsd_msgs_Reply> replies_;
   dds::Reader<flsd_msgs_RobotState> states_;
-  // Requests sent and not yet awaited, with their reply once it came.
-  std::map<Key, std::optional<RawReply>> outstanding_;
+  // Requests sent and not yet awaited, with the replies that came for their ids.
+  std::map<Key, std::deque<RawReply>> outstanding_;
+  std::map<Key, int> unanswered_;  // requests Await gave up on, by ids, whose replies have not come
+  int64_t late_replies_ = 0;
 };
 
 }  // namespace flsd::fuzz

@@ -43,11 +43,15 @@ struct Expectation {
 };
 
 struct ServerFacts {
-  int num_skills = -1;         // the library's; -1 until a list_skills reply tells
-  bool can_reset = true;       // the sim backend can; the real robot cannot
-  std::string identity;        // with DDS Security, this participant's: the only client_id accepted
-  double lease_timeout = 1.0;  // s
-  double max_duration = 600.0; // s
+  // skilld's settings, from its config: no default here, where a guess would go stale.
+  ServerFacts(double lease_timeout_s, double max_duration_s)
+      : lease_timeout(lease_timeout_s), max_duration(max_duration_s) {}
+
+  double lease_timeout;         // s
+  double max_duration;          // s
+  int num_skills = -1;          // the library's; -1 until a list_skills reply tells
+  bool can_reset = true;        // the sim backend can; the real robot cannot
+  std::string identity;         // with DDS Security, this participant's: the only client_id accepted
 };
 
 class ReplyOracle {

@@ -22,12 +22,15 @@ struct SoakClientOptions {
   double rate_hz = 50.0;         // requests per second
   bool heavy_maps = true;
   bool can_reset = true;         // false for skilld --backend hw
+  double lease_timeout = 0.0;    // s, skilld's, from its config (required: the oracle has no guess)
+  double max_duration = 0.0;     // s, skilld's: the longest motion it accepts
 };
 
-// Runs the client; its tally as JSON: requests, answered, dropped, wrong (with up to 5
-// examples), statuses, damp_latency_ms (every damp sent while the robot was not damped: from the
-// request to the first state sample showing the robot damped, by the two clocks of this machine),
-// state_checks, and the last state's requests_dropped.
+// Runs the client; its tally as JSON: requests, answered, dropped, late (replies that came after
+// their request was counted dropped), wrong (with up to 5 examples), statuses, damp_latency_ms
+// (every damp sent while the robot was not damped: from the request to the first state sample
+// showing the robot damped, by the two clocks of this machine), state_checks, and the last
+// state's requests_dropped.
 nlohmann::json RunSoakClient(const SoakClientOptions& options);
 
 }  // namespace flsd::fuzz

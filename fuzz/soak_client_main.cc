@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "core/config.h"
+#include "comm/security.h"
 #include "fuzz/soak_client.h"
 
 int main(int argc, char** argv) {
@@ -21,13 +21,17 @@ int main(int argc, char** argv) {
   app.add_option("--rate", o.rate_hz, "Requests per second")->check(CLI::Range(1.0, 500.0));
   app.add_flag("--light-maps", light_maps, "Leave out the heavy maps");
   app.add_flag("--no-reset", no_reset, "The server cannot reset the robot (the hw backend)");
+  app.add_option("--lease-timeout", o.lease_timeout, "The server's lease_timeout (s), from its config")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-duration", o.max_duration, "The server's max_duration (s), from its config")
+      ->required()
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   o.heavy_maps = !light_maps;
   o.can_reset = !no_reset;
   try {
-    if (!security_file.empty()) {
-      o.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
-    }
+    if (!security_file.empty()) o.security = flsd::dds::LoadSecurityFile(security_file);
     std::printf("%s\n", flsd::fuzz::RunSoakClient(o).dump().c_str());
     return 0;
   } catch (const std::exception& e) {

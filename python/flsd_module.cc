@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "client/client.h"
-#include "core/config.h"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -148,12 +147,10 @@ std::unique_ptr<Client> Connect(int domain, const std::string& partition, const 
   if (security.empty() && std::getenv("FLSD_SECURITY")) security = std::getenv("FLSD_SECURITY");
   if (!security.empty()) {
     try {
-      options.security = LoadConfigSection<dds::SecurityConfig>(security, "security");
+      options.security = dds::LoadSecurityFile(security);
     } catch (const std::exception& e) {
       throw py::value_error("security: " + std::string(e.what()));
     }
-    const std::string error = dds::SecurityFilesError(options.security, security + ":");
-    if (!error.empty()) throw py::value_error(error);
   }
   const Millis timeout = ToMillis(wait, "wait");
   auto client = std::make_unique<Client>(options);

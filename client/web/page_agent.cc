@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdio>
 #include <iostream>
 #include <stdexcept>
 #include <vector>
@@ -15,18 +16,10 @@ namespace flsd::web {
 namespace {
 
 using nlohmann::json;
+using Clock = std::chrono::steady_clock;
 
-constexpr std::chrono::seconds kStartTimeout{20}, kReplyTimeout{30};
-
-// One line from the agent, without its newline; false at its end.
-bool ReadLine(FILE* in, std::string& line) {
-  line.clear();
-  for (int c; (c = std::fgetc(in)) != EOF;) {
-    if (c == '\n') return true;
-    line += static_cast<char>(c);
-  }
-  return false;
-}
+// How soon the reader thread sees that it is to stop.
+constexpr std::chrono::seconds kReaderPoll{1};
 
 bool WriteAll(int fd, const std::string& text) {
   for (std::size_t done = 0; done < text.size();) {
@@ -38,14 +31,29 @@ bool WriteAll(int fd, const std::string& text) {
   return true;
 }
 
-json Unavailable(int& status, const std::string& why) {
-  status = 503;
+json Refused(int& status, int code, const std::string& why) {
+  status = code;
   return json{{"ok", false}, {"status", "refused"}, {"message", why}, {"audit", "refused: " + why}};
+}
+
+json Unavailable(int& status, const std::string& why) { return Refused(status, 503, why); }
+
+json OutOfProtocol(int& status, const std::string& why) {
+  return Refused(status, 502, "this page's DDS client answered out of protocol: " + why);
+}
+
+// Why an agent's reply, past its id, lacks an HTTP status or a reply (an object, or the skills'
+// list); "" if it has both.
+std::string ReplyShapeError(const json& r) {
+  const auto status = r.find("status"), reply = r.find("reply");
+  if (status == r.end() || !status->is_number_integer() || *status < 100 || *status > 599) return "no HTTP status";
+  if (reply == r.end() || !(reply->is_object() || reply->is_array())) return "no reply object or list";
+  return "";
 }
 
 }  // namespace
 
-AgentPageLink::AgentPageLink(const AgentOptions& options) {
+AgentPageLink::AgentPageLink(const AgentOptions& options) : reply_timeout_(options.reply_timeout) {
   std::vector<std::string> args = {options.program, "--page-agent", "--domain", std::to_string(options.domain_id),
                                    "--partition", options.partition};
   if (!options.security_file.empty()) args.insert(args.end(), {"--security", options.security_file});
@@ -71,15 +79,15 @@ AgentPageLink::AgentPageLink(const AgentOptions& options) {
   close(in[0]);
   close(out[1]);
   to_agent_ = in[1];
-  from_agent_ = fdopen(out[0], "r");
-  if (pid_ < 0 || !from_agent_) {
+  from_agent_ = out[0];
+  if (pid_ < 0) {
     Stop();
     throw std::runtime_error("page agent: cannot start " + options.program);
   }
-  pollfd ready{fileno(from_agent_), POLLIN, 0};
+  // An agent that stalls before or within its first line fails like one that says nothing.
   std::string line;
-  const bool answered = poll(&ready, 1, static_cast<int>(kStartTimeout.count() * 1000)) == 1 && ReadLine(from_agent_, line);
-  if (!answered || line.rfind("I ", 0) != 0) {
+  const LineRead first = ReadLine(line, Clock::now() + options.start_timeout);
+  if (first != LineRead::kLine || line.rfind("I ", 0) != 0) {
     Stop();
     throw std::runtime_error(line.rfind("X ", 0) == 0 ? line.substr(2) : "its DDS client did not start");
   }
@@ -89,7 +97,9 @@ AgentPageLink::AgentPageLink(const AgentOptions& options) {
 
 AgentPageLink::~AgentPageLink() {
   Stop();
+  stopping_ = true;  // the agent is gone, but a process it left may hold its output open
   if (reader_.joinable()) reader_.join();
+  if (from_agent_ >= 0) close(from_agent_);
 }
 
 void AgentPageLink::Stop() {
@@ -105,30 +115,76 @@ void AgentPageLink::Stop() {
     waitpid(pid_, nullptr, 0);
   }
   pid_ = -1;
-  // The reader thread reads to the end of the agent's output, then the file is closed.
-  if (from_agent_ && !reader_.joinable()) {
-    std::fclose(from_agent_);
-    from_agent_ = nullptr;
+  // The reader thread reads to the end of the agent's output; without one, it is closed here.
+  if (from_agent_ >= 0 && !reader_.joinable()) {
+    close(from_agent_);
+    from_agent_ = -1;
+  }
+}
+
+AgentPageLink::LineRead AgentPageLink::ReadLine(std::string& line, Clock::time_point until) {
+  for (;;) {
+    if (const auto newline = unread_.find('\n'); newline != std::string::npos) {
+      line = unread_.substr(0, newline);
+      unread_.erase(0, newline + 1);
+      return LineRead::kLine;
+    }
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(until - Clock::now());
+    pollfd ready{from_agent_, POLLIN, 0};
+    const int polled = left.count() > 0 ? poll(&ready, 1, static_cast<int>(left.count())) : 0;
+    if (polled < 0 && errno == EINTR) continue;
+    if (polled == 0) return LineRead::kTimeout;
+    char bytes[4096];
+    const ssize_t n = polled < 0 ? -1 : ::read(from_agent_, bytes, sizeof bytes);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return LineRead::kEnd;
+    unread_.append(bytes, static_cast<std::size_t>(n));
   }
 }
 
 void AgentPageLink::Read() {
   std::string line;
-  while (ReadLine(from_agent_, line)) {
-    std::lock_guard<std::mutex> lock(mutex_);
+  while (!stopping_) {
+    const LineRead next = ReadLine(line, Clock::now() + kReaderPoll);
+    if (next == LineRead::kEnd) break;
+    if (next == LineRead::kTimeout) continue;  // no skilld, or no call: an agent may say nothing for long
     if (line.rfind("E ", 0) == 0) {
+      std::lock_guard<std::mutex> lock(mutex_);
       event_ = "data: " + line.substr(2) + "\n\n";
       ++number_;
+      arrived_.notify_all();
     } else if (line.rfind("R ", 0) == 0) {
-      const json reply = json::parse(line.substr(2), nullptr, false);
-      if (reply.is_object()) replies_[reply.value("id", uint64_t{0})] = {reply.value("status", 500), reply["reply"]};
+      TakeReply(line.substr(2));
     }
-    arrived_.notify_all();
   }
-  std::fclose(from_agent_);
-  from_agent_ = nullptr;
   std::lock_guard<std::mutex> lock(mutex_);
   alive_ = false;
+  arrived_.notify_all();
+}
+
+void AgentPageLink::TakeReply(const std::string& text) {
+  const json r = json::parse(text, nullptr, false);
+  const auto id = r.find("id");
+  if (id == r.end() || !id->is_number_unsigned()) {
+    std::fprintf(stderr, "skillweb: page agent %s: dropped a reply without a request id: %s\n", id_.c_str(),
+                 text.substr(0, 200).c_str());
+    return;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto waiting = replies_.find(id->get<uint64_t>());
+  if (waiting == replies_.end()) {
+    // Its request gave up and told the page "no answer": the call may have run all the same.
+    std::fprintf(stderr, "skillweb: page agent %s: dropped the late answer to request %s: %s\n", id_.c_str(),
+                 id->dump().c_str(), text.substr(0, 200).c_str());
+    return;
+  }
+  if (const std::string error = ReplyShapeError(r); error.empty()) {
+    waiting->second.emplace(r.at("status").get<int>(), r.at("reply"));
+  } else {
+    int status = 0;
+    json refusal = OutOfProtocol(status, error);
+    waiting->second.emplace(status, std::move(refusal));
+  }
   arrived_.notify_all();
 }
 
@@ -137,26 +193,31 @@ json AgentPageLink::Request(json request, int& status) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     id = ++next_request_;
+    replies_[id];  // awaited from now on
   }
   request["id"] = id;
+  bool sent;
   {
     std::lock_guard<std::mutex> lock(write_mutex_);
-    if (to_agent_ < 0 || !WriteAll(to_agent_, request.dump() + "\n")) {
-      return Unavailable(status, "this page's DDS client has exited");
-    }
+    sent = to_agent_ >= 0 && WriteAll(to_agent_, request.dump() + "\n");
   }
   std::unique_lock<std::mutex> lock(mutex_);
-  arrived_.wait_for(lock, kReplyTimeout, [&] { return replies_.count(id) || !alive_; });
   const auto it = replies_.find(id);
-  if (it == replies_.end()) return Unavailable(status, "no answer from this page's DDS client");
-  status = it->second.first;
-  json reply = std::move(it->second.second);
-  replies_.erase(it);
-  return reply;
+  if (sent) arrived_.wait_for(lock, reply_timeout_, [&] { return it->second.has_value() || !alive_; });
+  std::optional<std::pair<int, json>> reply = std::move(it->second);
+  replies_.erase(it);  // a reply after this is late, and dropped
+  if (!sent) return Unavailable(status, "this page's DDS client has exited");
+  if (!reply) return Unavailable(status, "no answer from this page's DDS client");
+  status = reply->first;
+  return std::move(reply->second);
 }
 
 json AgentPageLink::Command(const std::string& name, const std::string& body, int& status) {
-  return Request({{"kind", "call"}, {"name", name}, {"body", body}}, status);
+  json reply = Request({{"kind", "call"}, {"name", name}, {"body", body}}, status);
+  // skillweb audits every command by its reply's "audit".
+  const auto audit = reply.find("audit");
+  if (audit == reply.end() || !audit->is_string()) return OutOfProtocol(status, "a command's reply without its audit");
+  return reply;
 }
 
 json AgentPageLink::Skills(int& status) { return Request({{"kind", "skills"}}, status); }

@@ -8,16 +8,21 @@
 //   agent -> skillweb   "I <client id>" once ready, or "X <why>" and exit;
 //                       then "E <state JSON>" per state event and "R {"id", "status", "reply"}" per request
 //
-// Closing the agent's stdin ends it; its client releases the lease on the way out.
+// Closing the agent's stdin ends it; its client releases the lease on the way out. skillweb waits
+// for each line with a timeout, refuses a reply of another shape (502), and drops, with a line on
+// stderr, a reply that comes after its request gave up.
 
 #include <sys/types.h>
 
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
-#include <cstdio>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "client/web/page_link.h"
 
@@ -29,6 +34,8 @@ struct AgentOptions {
   std::string partition;
   std::string security_file;  // an identity's security.yaml
   bool read_only = false;
+  std::chrono::milliseconds start_timeout{20000};  // for its client to start
+  std::chrono::milliseconds reply_timeout{30000};  // for the answer to a call
 };
 
 class AgentPageLink : public PageLink {
@@ -46,21 +53,28 @@ class AgentPageLink : public PageLink {
   bool alive() const override;
 
  private:
+  enum class LineRead { kLine, kEnd, kTimeout };
+  // The agent's next line, without its newline, if it comes whole by `until`.
+  LineRead ReadLine(std::string& line, std::chrono::steady_clock::time_point until);
   nlohmann::json Request(nlohmann::json request, int& status);
   void Read();
+  void TakeReply(const std::string& text);
   void Stop();
 
+  const std::chrono::milliseconds reply_timeout_;
   pid_t pid_ = -1;
-  int to_agent_ = -1;
-  FILE* from_agent_ = nullptr;
+  int to_agent_ = -1, from_agent_ = -1;
+  std::string unread_;  // what the agent wrote after the last whole line (the reader's)
   std::string id_;
   std::mutex write_mutex_;
   mutable std::mutex mutex_;  // what the reader thread fills in
   std::condition_variable arrived_;
   bool alive_ = true;
+  std::atomic<bool> stopping_{false};  // the reader ends even if the agent's output stays open
   std::string event_;
   uint64_t number_ = 0, next_request_ = 0;
-  std::map<uint64_t, std::pair<int, nlohmann::json>> replies_;  // by request id: status, reply
+  // By request id while its caller waits: status and reply once they came.
+  std::map<uint64_t, std::optional<std::pair<int, nlohmann::json>>> replies_;
   std::thread reader_;
 };
 

@@ -38,12 +38,28 @@ SessionStore::~SessionStore() {
   reaper_.join();
 }
 
-std::shared_ptr<Session> SessionStore::Open(const User& user, std::unique_ptr<PageLink> link) {
-  const auto now = Session::Clock::now();
+std::shared_ptr<Session> SessionStore::Open(const User& user,
+                                            const std::function<std::unique_ptr<PageLink>()>& connect) {
   CloseExpired();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (static_cast<int>(sessions_.size()) + opening_ >= limits_.max_sessions) return nullptr;
+    ++opening_;
+  }
+  // Connecting takes up to seconds (a page agent starts a DDS participant): its place is held
+  // meanwhile, so that a login beyond the limit is refused before it makes a client.
+  std::shared_ptr<Session> session;
+  try {
+    std::unique_ptr<PageLink> link = connect();
+    const auto expires = Session::Clock::now() + limits_.lifetime;
+    session = std::make_shared<Session>(user.name, user.role, std::move(link), expires);
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    --opening_;
+    throw;
+  }
   std::lock_guard<std::mutex> lock(mutex_);
-  if (static_cast<int>(sessions_.size()) >= limits_.max_sessions) return nullptr;
-  auto session = std::make_shared<Session>(user.name, user.role, std::move(link), now + limits_.lifetime);
+  --opening_;
   sessions_[session->token] = session;
   return session;
 }

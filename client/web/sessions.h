@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -59,8 +60,9 @@ class SessionStore {
 
   const SessionLimits& limits() const { return limits_; }
 
-  // A new session for `user` with its link; nullptr when max_sessions are open.
-  std::shared_ptr<Session> Open(const User& user, std::unique_ptr<PageLink> link);
+  // A new session for `user` with the link `connect` makes; nullptr, and nothing connected, when
+  // max_sessions are open or opening. What `connect` throws goes to the caller.
+  std::shared_ptr<Session> Open(const User& user, const std::function<std::unique_ptr<PageLink>()>& connect);
   // The open session of `token`, touched; nullptr if there is none or it expired.
   std::shared_ptr<Session> Find(const std::string& token);
   void Close(const std::string& token);
@@ -72,6 +74,7 @@ class SessionStore {
   std::mutex mutex_;
   std::condition_variable stop_;
   bool stopping_ = false;
+  int opening_ = 0;  // sessions whose links are being connected, out of the lock
   std::map<std::string, std::shared_ptr<Session>> sessions_;
   std::thread reaper_;
 };

@@ -9,7 +9,6 @@
 
 #include <cstdio>
 #include <exception>
-#include <filesystem>
 #include <iostream>
 
 #include "client/client.h"
@@ -18,7 +17,6 @@
 #include "client/web/users_file.h"
 #include "client/web/web_app.h"
 #include "core/check.h"
-#include "core/config.h"
 #include "core/paths.h"
 #include "core/signals.h"
 
@@ -105,11 +103,7 @@ int main(int argc, char** argv) {
       AddUser(users_file, add_user, role, identity);
       return 0;
     }
-    if (!security_file.empty()) {
-      client.security = flsd::LoadConfigSection<flsd::dds::SecurityConfig>(security_file, "security");
-      const std::string error = flsd::dds::SecurityFilesError(client.security, security_file + ":");
-      if (!error.empty()) throw flsd::InputError(error);
-    }
+    if (!security_file.empty()) client.security = flsd::dds::LoadSecurityFile(security_file);
     if (page_agent) {
       client.read_only = read_only;
       return flsd::web::RunPageAgent(client);
@@ -128,7 +122,7 @@ int main(int argc, char** argv) {
     options.pki_dir = pki_dir;
     options.sessions.idle = std::chrono::minutes(session_minutes);
     options.client = client;
-    options.agent_program = std::filesystem::read_symlink("/proc/self/exe").string();
+    options.agent_program = flsd::ProgramPath();
     flsd::web::WebApp web(options);
     const int port = web.Listen(listen);
     const std::string who = options.users ? std::to_string(options.users->size()) + " users, a login per page"

@@ -13,7 +13,6 @@
 #include "client/web/page_agent.h"
 #include "client/web/web_json.h"
 #include "core/check.h"
-#include "core/config.h"
 #include "robot/a1.h"
 
 namespace flsd::web {
@@ -114,13 +113,11 @@ WebApp::WebApp(WebAppOptions options)
     const std::string file = options_.pki_dir + "/" + user.identity + "/security.yaml";
     dds::SecurityConfig security;
     try {
-      security = LoadConfigSection<dds::SecurityConfig>(file, "security");
+      security = dds::LoadSecurityFile(file);
     } catch (const std::exception& e) {
       throw InputError(where + "identity " + user.identity + ": " + e.what());
     }
     if (!security.enabled) throw InputError(where + file + ": security.enabled is not true");
-    const std::string error = dds::SecurityFilesError(security, where + file + ":");
-    if (!error.empty()) throw InputError(error);
     identities_[name] = file;
   }
 }
@@ -163,7 +160,8 @@ void WebApp::Mount(httplib::Server& server) {
     Refuse(res, 403, "request from another site or host name");
     return httplib::Server::HandlerResponse::Handled;
   });
-  server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr error) {
+  // What went wrong inside stays in skillweb's log: it may name files, hosts or library internals.
+  server.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr error) {
     std::string what = "unknown error";
     try {
       std::rethrow_exception(error);
@@ -171,7 +169,9 @@ void WebApp::Mount(httplib::Server& server) {
       what = e.what();
     } catch (...) {
     }
-    Refuse(res, 500, what);
+    std::fprintf(stderr, "skillweb: %s %s failed: %s\n", req.method.c_str(), OneLine(req.path).c_str(),
+                 OneLine(what).c_str());
+    Refuse(res, 500, "internal error: skillweb's log says more");
   });
 
   const auto file = [](std::string path, std::string type) {
@@ -243,9 +243,10 @@ void WebApp::Login(const httplib::Request& request, httplib::Response& response)
   }
   std::shared_ptr<Session> session;
   try {
-    session = sessions_.Open(user->second, Connect(user->second));
+    session = sessions_.Open(user->second, [&] { return Connect(user->second); });
   } catch (const std::exception& e) {
-    return Refuse(response, 503, std::string("cannot connect this page to skilld: ") + e.what());
+    AuditLine(request, "login", "user '" + OneLine(name) + "': cannot connect its client: " + OneLine(e.what()));
+    return Refuse(response, 503, "cannot connect this page to skilld: skillweb's log says why");
   }
   if (!session) return Refuse(response, 503, "too many open sessions: log out elsewhere, or wait for one to expire");
   AuditLine(request, session->Describe(), "logged in");

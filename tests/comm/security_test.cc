@@ -10,6 +10,8 @@
 #include <sys/stat.h>
 
 #include <memory>
+#include <string>
+#include <utility>
 
 #include "tests/common/test_support.h"
 
@@ -54,6 +56,29 @@ TEST_F(SecurityConfigTest, AKeyOthersCanReadIsRefused) {
   EXPECT_EQ(SecurityFilesError(config_, "op.yaml:"), "op.yaml: security.private_key: " + config_.private_key +
                                                          " has mode 0644; a private key must be readable by its "
                                                          "owner only (chmod 600)");
+}
+
+TEST_F(SecurityConfigTest, ASecurityFileLoadsWithItsFilesChecked) {
+  std::string yaml = "security:\n  enabled: true\n";
+  for (const auto& [key, path] : {std::pair{"identity_ca", config_.identity_ca},
+                                  {"identity_certificate", config_.identity_certificate},
+                                  {"private_key", config_.private_key},
+                                  {"permissions_ca", config_.permissions_ca},
+                                  {"governance", config_.governance},
+                                  {"permissions", config_.permissions}}) {
+    yaml += std::string("  ") + key + ": " + path + "\n";
+  }
+  const testutil::TempFile file(".yaml", yaml);
+  const SecurityConfig loaded = LoadSecurityFile(file.path());
+  EXPECT_TRUE(loaded.enabled);
+  EXPECT_EQ(loaded.private_key, config_.private_key);
+  EXPECT_EQ(loaded.permissions, config_.permissions);
+  chmod(config_.private_key.c_str(), 0644);
+  EXPECT_THAT(testutil::InputErrorMessage([&] { LoadSecurityFile(file.path()); }),
+              HasSubstr(file.path() + ": security.private_key: " + config_.private_key + " has mode 0644"));
+  const testutil::TempFile none(".yaml", "domain_id: 3\n");
+  EXPECT_EQ(testutil::InputErrorMessage([&] { LoadSecurityFile(none.path()); }),
+            none.path() + ": missing section 'security'");
 }
 
 TEST_F(SecurityConfigTest, PropertiesAndXmlNameTheSameFilesAndPlugins) {

@@ -3,8 +3,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <thread>
 #include <fstream>
 #include <string>
 
@@ -84,6 +90,35 @@ TEST_F(ResolveDataPathTest, MissingFileNamesEveryPlaceTried) {
                     HasSubstr(fs::current_path().string() + "/robot/none.xml"),
                     HasSubstr("/flsd/empty/root/robot/none.xml"),
                     HasSubstr(std::string(FLSD_SOURCE_DIR) + "/robot/none.xml")));
+}
+
+TEST(ProgramPathTest, IsThisTestsOwnProgram) {
+  EXPECT_TRUE(fs::equivalent(ProgramPath(), "/proc/self/exe"));
+}
+
+TEST(ProgramPathTest, NamesTheProgramNowInPlaceOfOneReplacedWhileItRuns) {
+  const fs::path dir = testutil::UniqueTempPath("bin");
+  fs::create_directories(dir);
+  const fs::path program = dir / "sleeper";
+  fs::copy_file("/bin/sleep", program);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl(program.c_str(), program.c_str(), "30", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  ASSERT_GT(pid, 0);
+  const std::string link = "/proc/" + std::to_string(pid) + "/exe";
+  for (int i = 0; i < 200 && fs::read_symlink(link) != program; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));  // until it has exec'd
+  }
+  // A rebuild: the running file is removed and a new one written in its place.
+  fs::remove(program);
+  fs::copy_file("/bin/sleep", program);
+  EXPECT_EQ(fs::read_symlink(link).string(), program.string() + " (deleted)");
+  EXPECT_EQ(ProgramPath(link), program.string());
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  fs::remove_all(dir);
 }
 
 }  // namespace

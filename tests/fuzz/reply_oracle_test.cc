@@ -7,6 +7,9 @@ namespace {
 
 using Clock = ReplyOracle::Clock;
 
+// A lease timeout of 1 s, durations up to 600 s.
+ServerFacts Facts() { return ServerFacts(1.0, 600.0); }
+
 RawRequest Request(const std::string& call, uint64_t id, const std::string& client = "alice") {
   RawRequest r;
   r.client_id = client;
@@ -32,14 +35,14 @@ TEST(ContractViolation, InternalErrorsAndReasonlessRefusalsBreakTheContract) {
 }
 
 TEST(ReplyOracle, AMotionWithoutTheLeaseMayOnlyBeRefused) {
-  ReplyOracle oracle(ServerFacts{});
+  ReplyOracle oracle(Facts());
   const Expectation e = oracle.Expect(Request("stand", 1), Clock::now(), 0);
   EXPECT_TRUE(e.allowed.Has(flsd_msgs_STATUS_NOT_IN_CONTROL));
   EXPECT_FALSE(e.allowed.Has(flsd_msgs_STATUS_OK)) << e.rule;  // an ok here is a wrong reply
 }
 
 TEST(ReplyOracle, TheHolderOfAFreshLeaseMustNotBeToldItIsNotInControl) {
-  ReplyOracle oracle(ServerFacts{});
+  ReplyOracle oracle(Facts());
   const Clock::time_point t0 = Clock::now();
   const RawRequest acquire = Request("acquire_control", 1);
   oracle.Learn(acquire, oracle.Expect(acquire, t0, 0), t0, Reply(flsd_msgs_STATUS_OK));
@@ -52,7 +55,7 @@ TEST(ReplyOracle, TheHolderOfAFreshLeaseMustNotBeToldItIsNotInControl) {
 }
 
 TEST(ReplyOracle, HeaderChecksComeFirstAndAllowOneAnswer) {
-  ReplyOracle oracle(ServerFacts{});
+  ReplyOracle oracle(Facts());
   const Clock::time_point t = Clock::now();
   oracle.Expect(Request("status", 5), t, 0);
   EXPECT_TRUE(oracle.Expect(Request("status", 5), t, 0).allowed.Has(flsd_msgs_STATUS_DUPLICATE));
@@ -72,7 +75,7 @@ TEST(ReplyOracle, HeaderChecksComeFirstAndAllowOneAnswer) {
 }
 
 TEST(ReplyOracle, ABadArgumentIsOnlyEverInvalidForTheHolder) {
-  ReplyOracle oracle(ServerFacts{});
+  ReplyOracle oracle(Facts());
   const Clock::time_point t0 = Clock::now();
   const RawRequest acquire = Request("acquire_control", 1);
   oracle.Learn(acquire, oracle.Expect(acquire, t0, 0), t0, Reply(flsd_msgs_STATUS_OK));

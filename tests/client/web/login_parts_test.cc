@@ -1,13 +1,15 @@
-// The parts of skillweb's logins that need no network: password hashes, the users file, the rate
-// limiter, and the rule for where skillweb may listen.
+// The parts of skillweb's logins that need no network: password hashes, the users file, the
+// session store's limit, the rate limiter, and the rule for where skillweb may listen.
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
 #include <fstream>
+#include <stdexcept>
 
 #include "client/web/credentials.h"
 #include "client/web/rate_limiter.h"
+#include "client/web/sessions.h"
 #include "client/web/users_file.h"
 #include "client/web/web_server.h"
 #include "core/check.h"
@@ -81,6 +83,50 @@ TEST(UsersFileTest, AMalformedLineIsAnErrorNamingTheFileAndLine) {
             ":2: user 'alice' appears twice");
   EXPECT_EQ(error_of("al/ice operator alice " + hash + "\n"), ":1: user name 'al/ice' must be 1-40 of [A-Za-z0-9_.-]");
   EXPECT_NE(error_of("alice operator alice plain-password\n").find(":1: expected pbkdf2-sha256$"), std::string::npos);
+}
+
+// A page's link without a DDS client.
+class NoLink : public PageLink {
+ public:
+  const std::string& id() const override { return id_; }
+  nlohmann::json Command(const std::string&, const std::string&, int& status) override {
+    status = 503;
+    return nlohmann::json::object();
+  }
+  nlohmann::json Skills(int& status) override {
+    status = 503;
+    return nlohmann::json::object();
+  }
+  std::string NextEvent(uint64_t, uint64_t&, std::chrono::milliseconds) override { return ""; }
+
+ private:
+  const std::string id_ = "no-link";
+};
+
+TEST(SessionStoreTest, ALoginBeyondTheLimitConnectsNothing) {
+  SessionLimits limits;
+  limits.max_sessions = 1;
+  SessionStore store(limits);
+  const User alice{"alice", Role::kOperator, "-", ""};
+  int connects = 0;
+  const auto connect = [&connects]() -> std::unique_ptr<PageLink> {
+    ++connects;
+    return std::make_unique<NoLink>();
+  };
+  // A login while another is still connecting is refused too: the place is taken.
+  const std::shared_ptr<Session> first = store.Open(alice, [&]() {
+    EXPECT_EQ(store.Open(alice, connect), nullptr);
+    return connect();
+  });
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(store.Open(alice, connect), nullptr);
+  EXPECT_EQ(connects, 1);
+  // A link that fails to connect gives its place back.
+  store.Close(first->token);
+  EXPECT_THROW(store.Open(alice, []() -> std::unique_ptr<PageLink> { throw std::runtime_error("no skilld"); }),
+               std::runtime_error);
+  EXPECT_NE(store.Open(alice, connect), nullptr);
+  EXPECT_EQ(connects, 2);
 }
 
 TEST(RateLimiterTest, ABurstThenOnePerInterval) {

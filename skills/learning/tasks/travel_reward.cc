@@ -1,6 +1,5 @@
 #include "skills/learning/tasks/travel_reward.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "core/check.h"
@@ -62,25 +61,20 @@ void CheckMirrorImages(const SkillDirections& directions, const mirror::SkillPai
 }
 
 double TravelReward(Direction direction, const std::array<double, 3>& v, const TravelConfig& config) {
-  // The velocity as three lengths per second: x, y and the turn in metres.
+  // The velocity and the target as three lengths per second: x, y and the turn in metres.
   const std::array<double, 3> m = {v[0], v[1], config.turn_scale * v[2]};
-  int axis = 0;
-  double sign = 1.0;
+  std::array<double, 3> target{};
   switch (direction) {
-    case Direction::kForward: break;
-    case Direction::kBackward: sign = -1.0; break;
-    case Direction::kLeft: axis = 1; break;
-    case Direction::kRight: axis = 1, sign = -1.0; break;
-    case Direction::kTurnLeft: axis = 2; break;
-    case Direction::kTurnRight: axis = 2, sign = -1.0; break;
+    case Direction::kForward: target[0] = config.speed; break;
+    case Direction::kBackward: target[0] = -config.speed; break;
+    case Direction::kLeft: target[1] = config.speed; break;
+    case Direction::kRight: target[1] = -config.speed; break;
+    case Direction::kTurnLeft: target[2] = config.speed; break;
+    case Direction::kTurnRight: target[2] = -config.speed; break;
   }
-  const double along = sign * m[axis];
-  double across_squared = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    if (a != axis) across_squared += m[a] * m[a];
-  }
-  return config.weight * (std::min(along, config.speed) - config.cross_weight * std::sqrt(across_squared)) /
-         config.speed;
+  double error_squared = 0.0;
+  for (int a = 0; a < 3; ++a) error_squared += (m[a] - target[a]) * (m[a] - target[a]);
+  return config.weight * std::exp(-error_squared / (config.tolerance * config.tolerance));
 }
 
 }  // namespace flsd

@@ -17,11 +17,15 @@
 
 namespace flsd {
 
+// The pay is legged_gym's velocity-tracking kernel with a fixed command per skill:
+// weight * exp(-|v - target|^2 / tolerance^2), v the skill's velocity in its own frame and target
+// `speed` along its direction, turning counted in metres by turn_scale. It is positive everywhere
+// and flat about zero across the direction, so a skill that explores is not punished for it.
 struct TravelConfig {
-  double weight = 0.0;        // reward per step at full pay, in the units of log q(k | o^d); 0: off
-  double speed = 0.6;         // m/s along the direction at which the pay saturates: no pay for galloping
-  double turn_scale = 0.4;    // m/rad: a turn of 1 rad/s counts as 0.4 m/s, as the bar's 1.0 rad/s to its 0.4 m/s
-  double cross_weight = 0.5;  // the pay lost per m/s of motion across the direction (turning included)
+  double weight = 0.0;       // pay per step on target, in the units of log q(k | o^d); 0: off
+  double speed = 0.5;        // m/s along the direction (turns: speed / turn_scale rad/s)
+  double turn_scale = 0.4;   // m/rad: a turn of 1 rad/s counts as 0.4 m/s, as the bar's 1.0 rad/s to its 0.4 m/s
+  double tolerance = 0.5;    // m/s: legged_gym's tracking_sigma 0.25 is this squared
   // One entry per skill: a direction's name (library_bar.h's kDirectionNames) or "none".
   std::vector<std::string> directions;
 
@@ -31,7 +35,7 @@ struct TravelConfig {
     v("weight", weight, Bounds<double>{0.0, 1000.0});
     v("speed", speed, Bounds<double>{1e-3, 100.0});
     v("turn_scale", turn_scale, Bounds<double>{0.0, 100.0});
-    v("cross_weight", cross_weight, Bounds<double>{0.0, 100.0});
+    v("tolerance", tolerance, Bounds<double>{1e-3, 100.0});
     v("directions", directions);
   }
 };
@@ -50,9 +54,7 @@ SkillDirections ParseSkillDirections(const TravelConfig& config, int num_skills)
 void CheckMirrorImages(const SkillDirections& directions, const mirror::SkillPairing& pairing);
 
 // The pay for one step of a skill going `direction`, given its velocity in the skill's own frame
-// (x forward and y left as the robot faced when the skill began, m/s; yaw rate, rad/s):
-// weight * (min(along, speed) - cross_weight * |across|) / speed, with turning counted in metres
-// by turn_scale.
+// (x forward and y left as the robot faced when the skill began, m/s; yaw rate, rad/s).
 double TravelReward(Direction direction, const std::array<double, 3>& skill_frame_velocity,
                     const TravelConfig& config);
 

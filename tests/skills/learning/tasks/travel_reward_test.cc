@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 #include <string>
 
@@ -17,34 +18,36 @@ TravelConfig Pay(double weight) {
   c.weight = weight;
   c.speed = 0.5;
   c.turn_scale = 0.4;
-  c.cross_weight = 0.5;
+  c.tolerance = 0.5;
   return c;
 }
 
-TEST(TravelReward, PaysForSpeedAlongTheDirectionUpToTheCap) {
+TEST(TravelReward, PaysInFullOnTargetAndLessByTheSquaredError) {
   const TravelConfig c = Pay(2.0);
-  EXPECT_DOUBLE_EQ(TravelReward(Direction::kForward, {0.25, 0.0, 0.0}, c), 2.0 * 0.25 / 0.5);
   EXPECT_DOUBLE_EQ(TravelReward(Direction::kForward, {0.5, 0.0, 0.0}, c), 2.0);
-  EXPECT_DOUBLE_EQ(TravelReward(Direction::kForward, {1.5, 0.0, 0.0}, c), 2.0);  // a gallop earns no more
   EXPECT_DOUBLE_EQ(TravelReward(Direction::kBackward, {-0.5, 0.0, 0.0}, c), 2.0);
-  EXPECT_DOUBLE_EQ(TravelReward(Direction::kBackward, {0.5, 0.0, 0.0}, c), -2.0);  // the wrong way costs
-  EXPECT_DOUBLE_EQ(TravelReward(Direction::kLeft, {0.0, 0.3, 0.0}, c), 2.0 * 0.3 / 0.5);
-  EXPECT_DOUBLE_EQ(TravelReward(Direction::kRight, {0.0, -0.3, 0.0}, c), 2.0 * 0.3 / 0.5);
-  // 1 rad/s counts as 0.4 m/s.
-  EXPECT_DOUBLE_EQ(TravelReward(Direction::kTurnLeft, {0.0, 0.0, 1.0}, c), 2.0 * 0.4 / 0.5);
-  EXPECT_DOUBLE_EQ(TravelReward(Direction::kTurnRight, {0.0, 0.0, -1.0}, c), 2.0 * 0.4 / 0.5);
-  EXPECT_DOUBLE_EQ(TravelReward(Direction::kForward, {0.0, 0.0, 0.0}, c), 0.0);  // standing earns nothing
+  EXPECT_DOUBLE_EQ(TravelReward(Direction::kLeft, {0.0, 0.5, 0.0}, c), 2.0);
+  EXPECT_DOUBLE_EQ(TravelReward(Direction::kRight, {0.0, -0.5, 0.0}, c), 2.0);
+  // 1.25 rad/s counts as 0.5 m/s.
+  EXPECT_DOUBLE_EQ(TravelReward(Direction::kTurnLeft, {0.0, 0.0, 1.25}, c), 2.0);
+  EXPECT_DOUBLE_EQ(TravelReward(Direction::kTurnRight, {0.0, 0.0, -1.25}, c), 2.0);
+  // Standing is 0.5 m/s off target: exp(-0.25 / 0.25).
+  EXPECT_NEAR(TravelReward(Direction::kForward, {0.0, 0.0, 0.0}, c), 2.0 * std::exp(-1.0), 1e-12);
+  // Too fast costs as too slow: a gallop earns no more.
+  EXPECT_DOUBLE_EQ(TravelReward(Direction::kForward, {1.0, 0.0, 0.0}, c),
+                   TravelReward(Direction::kForward, {0.0, 0.0, 0.0}, c));
+  // Forward on target drifting 0.3 m/s left and turning 1 rad/s (0.4 m/s): 0.25 m^2/s^2 off.
+  EXPECT_NEAR(TravelReward(Direction::kForward, {0.5, 0.3, 1.0}, c), 2.0 * std::exp(-1.0), 1e-12);
+  // Going the wrong way earns least, and never below zero.
+  EXPECT_NEAR(TravelReward(Direction::kLeft, {0.0, -0.5, 0.0}, c), 2.0 * std::exp(-4.0), 1e-12);
 }
 
-TEST(TravelReward, MotionAcrossTheDirectionCostsItsShare) {
+TEST(TravelReward, IsFlatAcrossTheDirectionAboutZero) {
+  // A skill exploring sideways loses next to nothing at first: the kernel's slope across is zero.
   const TravelConfig c = Pay(1.0);
-  // Forward at 0.4 m/s drifting 0.3 m/s left and turning 1 rad/s (0.4 m/s): across is 0.5 m/s.
-  EXPECT_NEAR(TravelReward(Direction::kForward, {0.4, 0.3, 1.0}, c), (0.4 - 0.5 * 0.5) / 0.5, 1e-12);
-  // Turning in place at 1 rad/s while walking 0.3 m/s forward and 0.4 m/s right.
-  EXPECT_NEAR(TravelReward(Direction::kTurnLeft, {0.3, -0.4, 1.0}, c), (0.4 - 0.5 * 0.5) / 0.5, 1e-12);
-  // A straight walk earns more than an arc at the same speed.
-  EXPECT_GT(TravelReward(Direction::kForward, {0.4, 0.0, 0.0}, c),
-            TravelReward(Direction::kForward, {0.4, 0.0, 0.8}, c));
+  const double straight = TravelReward(Direction::kForward, {0.3, 0.0, 0.0}, c);
+  EXPECT_NEAR(TravelReward(Direction::kForward, {0.3, 0.01, 0.0}, c), straight, 1e-3 * straight);
+  EXPECT_GT(straight, TravelReward(Direction::kForward, {0.3, 0.0, 0.8}, c));  // straight beats an arc
 }
 
 TEST(TravelReward, MirrorImagesSwapLeftAndRight) {

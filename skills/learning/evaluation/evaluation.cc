@@ -84,21 +84,26 @@ nlohmann::json JudgeKeptCheckpoint(const std::string& run_dir, int iteration) {
   EvaluationOptions options;
   options.randomize = true;
   const nlohmann::json eval = EvaluateRun(run_dir, options, iteration, kRandomizedStarts);
-  const LibraryBar bar = LibraryBarFromJson(eval.at("bar"), run_dir + " eval of iteration " + std::to_string(iteration));
   const std::string path = BestFile(run_dir);
   nlohmann::json best = nlohmann::json::object();
   if (std::filesystem::exists(path)) best = ReadJsonFile(path);
-  const nlohmann::json judged_entry = {{"iteration", iteration}, {"bar", eval.at("bar")}};
   nlohmann::json judged = best.value("judged", nlohmann::json::array());
   // A resumed run judges again the checkpoints it keeps again: the latest judgement stands.
   for (auto it = judged.begin(); it != judged.end();) it = it->at("iteration") == iteration ? judged.erase(it) : it + 1;
-  judged.push_back(judged_entry);
-  const bool first = !best.contains("iteration") || best.at("iteration") == iteration;
-  if (first || BetterLibrary(bar, LibraryBarFromJson(best.at("bar"), path))) {
-    best["iteration"] = iteration;
-    best["env_steps"] = eval.at("env_steps");
-    best["bar"] = eval.at("bar");
+  judged.push_back({{"iteration", iteration}, {"env_steps", eval.at("env_steps")}, {"bar", eval.at("bar")}});
+  // The best of all judged, the earliest among equals.
+  const nlohmann::json* chosen = nullptr;
+  LibraryBar chosen_bar;
+  for (const nlohmann::json& entry : judged) {
+    const LibraryBar bar = LibraryBarFromJson(entry.at("bar"), path + " (iteration " + entry.at("iteration").dump() + ")");
+    if (chosen == nullptr || BetterLibrary(bar, chosen_bar)) {
+      chosen = &entry;
+      chosen_bar = bar;
+    }
   }
+  best["iteration"] = chosen->at("iteration");
+  best["env_steps"] = chosen->value("env_steps", nlohmann::json());
+  best["bar"] = chosen->at("bar");
   best["rule"] = "every kept checkpoint judged over " + std::to_string(kRandomizedStarts) +
                  " randomised starts; best: all skills surviving, then directions within the limits, survivors, "
                  "directions, least slip";

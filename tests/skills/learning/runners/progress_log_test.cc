@@ -20,7 +20,9 @@ namespace {
 
 int Columns(const std::string& line) { return 1 + static_cast<int>(std::count(line.begin(), line.end(), ',')); }
 
-// The columns every skill run in runs/ was written with: readers (flsd report, the plots) rely on them.
+// The columns every skill run in runs/ before the travel term was written with: readers (flsd
+// report, the plots) rely on them. Later runs add travel_reward at the end, so the older columns
+// keep their places.
 constexpr const char* kCommittedHeader =
     "iteration,env_steps,steps_per_s,episodes_ended,mean_episode_length,fall_fraction,discriminator_accuracy,"
     "intrinsic_reward,discriminator_loss,pae_loss,surrogate_loss,value_loss,entropy,kl,learning_rate,action_std,"
@@ -37,7 +39,7 @@ TEST(SkillProgress, HeaderIsTheCommittedRunsAndEachRowFillsIt) {
   task.fall_fraction = 0.125;
   task.constraints.violation_rate[0] = 0.5;
   const ProgressRecord record = SkillProgress(runner, task);
-  EXPECT_EQ(record.header(), kCommittedHeader);
+  EXPECT_EQ(record.header(), std::string(kCommittedHeader) + ",travel_reward");
   EXPECT_EQ(Columns(record.row()), Columns(record.header()));
   EXPECT_EQ(record.row().substr(0, 9), "12,73728,");
   EXPECT_NE(record.row().find(",0.1250,"), std::string::npos);   // fall_fraction, %.4f

@@ -27,6 +27,11 @@ double SpeedToward(double vx, double vy, double wz, Direction direction, const L
   return -1.0;
 }
 
+// How many directions have a skill (-1: none).
+int DirectionsWithASkill(const std::array<int, kNumDirections>& skill) {
+  return static_cast<int>(std::count_if(skill.begin(), skill.end(), [](int k) { return k >= 0; }));
+}
+
 double Threshold(Direction direction, const LibraryBarLimits& limits) {
   return direction == Direction::kTurnLeft || direction == Direction::kTurnRight ? limits.turn_rate
                                                                                   : limits.straight_speed;
@@ -72,7 +77,7 @@ LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& li
     bar.fastest_mover_slip = std::max(bar.fastest_mover_slip, s.mean_stance_foot_speed);
   }
   if (bar.movers == 0) bar.lowest_mover_height = 0.0;
-  bar.directions_within_limits = static_cast<int>(std::count_if(sound_skill.begin(), sound_skill.end(), [](int k) { return k >= 0; }));
+  bar.directions_within_limits = DirectionsWithASkill(sound_skill);
   bar.met = bar.survivors == bar.num_skills &&
             std::none_of(bar.skill.begin(), bar.skill.end(), [](int k) { return k < 0; }) &&
             bar.lowest_mover_height >= limits.mover_height && bar.fastest_mover_slip <= limits.mover_slip &&
@@ -82,9 +87,8 @@ LibraryBar JudgeLibrary(const Evaluation& evaluation, const LibraryBarLimits& li
 
 bool BetterLibrary(const LibraryBar& a, const LibraryBar& b) {
   auto rank = [](const LibraryBar& bar) {
-    const int directions = static_cast<int>(std::count_if(bar.skill.begin(), bar.skill.end(), [](int k) { return k >= 0; }));
-    return std::make_tuple(bar.survivors == bar.num_skills, bar.directions_within_limits, bar.survivors, directions,
-                           -bar.fastest_mover_slip);
+    return std::make_tuple(bar.survivors == bar.num_skills, bar.directions_within_limits, bar.survivors,
+                           DirectionsWithASkill(bar.skill), -bar.fastest_mover_slip);
   };
   return rank(a) > rank(b);
 }

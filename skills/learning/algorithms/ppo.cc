@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "core/check.h"
 
 namespace flsd {
 namespace {
@@ -59,7 +62,13 @@ Ppo::Ppo(std::shared_ptr<PpoPolicyImpl> policy, const PpoConfig& config, const C
       config_(config),
       comm_(comm),
       optimizer_(policy_->parameters(), torch::optim::AdamOptions(config.learning_rate)),
-      learning_rate_(config.learning_rate) {}
+      learning_rate_(config.learning_rate) {
+  if (config_.prior_kl_coef > 0.0 && !policy_->HasPrior()) {
+    throw InputError("ppo.prior_kl_coef: " + std::to_string(config_.prior_kl_coef) +
+                     " pulls the policy toward its prior, but this policy has none (a selector with "
+                     "time_sharing_prior or nearest_prior_temperature has); expected 0");
+  }
+}
 
 void Ppo::set_learning_rate(double lr) {
   learning_rate_ = lr;
@@ -119,8 +128,11 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns, const Mirro
       const torch::Tensor value_loss =
           torch::max((value - mb_target).pow(2), (value_clipped - mb_target).pow(2)).mean();
       const torch::Tensor entropy = policy_->Entropy(distribution).mean();
-      const torch::Tensor loss =
-          surrogate + config_.value_coef * value_loss - config_.entropy_coef * entropy;
+      const torch::Tensor prior_kl = policy_->HasPrior()
+                                         ? policy_->PriorKl(obs.index_select(0, idx), distribution).mean()
+                                         : torch::zeros({});
+      const torch::Tensor loss = surrogate + config_.value_coef * value_loss - config_.entropy_coef * entropy +
+                                 config_.prior_kl_coef * prior_kl;
 
       if (comm_.Any(!torch::isfinite(loss).item<bool>())) {
         stats.finite = false;
@@ -135,15 +147,17 @@ PpoStats Ppo::Update(const Rollout& rollout, const Returns& returns, const Mirro
       stats.surrogate_loss += surrogate.item<double>();
       stats.value_loss += value_loss.item<double>();
       stats.entropy += entropy.item<double>();
+      stats.prior_kl += prior_kl.item<double>();
       ++updates;
     }
   }
   if (updates > 0) {
-    double losses[3] = {stats.surrogate_loss, stats.value_loss, stats.entropy};
-    comm_.Sum(losses, 3);  // the mean over the ranks' minibatches
+    double losses[4] = {stats.surrogate_loss, stats.value_loss, stats.entropy, stats.prior_kl};
+    comm_.Sum(losses, 4);  // the mean over the ranks' minibatches
     stats.surrogate_loss = losses[0] / (updates * comm_.size());
     stats.value_loss = losses[1] / (updates * comm_.size());
     stats.entropy = losses[2] / (updates * comm_.size());
+    stats.prior_kl = losses[3] / (updates * comm_.size());
     stats.kl /= updates;
   }
   stats.learning_rate = learning_rate_;

@@ -24,6 +24,10 @@ struct PpoConfig {
   double gamma = 0.99;
   double lambda = 0.95;
   double max_grad_norm = 1.0;
+  // Not rsl_rl's; 0 turns it off. The loss also carries this times KL(policy || its prior) (a
+  // selector whose logits are added to a prior's, PpoPolicyImpl::PriorKl): the policy may improve
+  // on the prior only where that pays more than it costs.
+  double prior_kl_coef = 0.0;
   template <class V>
   void Visit(V& v) {
     v("epochs", epochs, Bounds<int>{1, 100});
@@ -37,6 +41,7 @@ struct PpoConfig {
     v("gamma", gamma, Bounds<double>{0.0, 1.0});
     v("lambda", lambda, Bounds<double>{0.0, 1.0});
     v("max_grad_norm", max_grad_norm, Bounds<double>{0.0, 1000.0});
+    v("prior_kl_coef", prior_kl_coef, Bounds<double>{0.0, 100.0});
   }
 };
 
@@ -79,6 +84,7 @@ struct PpoStats {
   double value_loss = 0.0;
   double entropy = 0.0;
   double kl = 0.0;
+  double prior_kl = 0.0;  // KL(policy || its prior) over the minibatches; 0 without a prior
   double learning_rate = 0.0;
   bool finite = true;  // false when a loss turned NaN or infinite; no step was taken then
 };

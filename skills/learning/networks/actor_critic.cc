@@ -71,6 +71,11 @@ torch::Tensor CategoricalActorCriticImpl::Kl(const torch::Tensor& old_distributi
   return (old_log_p.exp() * (old_log_p - torch::log_softmax(distribution, -1))).sum(-1);
 }
 
+torch::Tensor CategoricalActorCriticImpl::PriorKl(const torch::Tensor& obs, const torch::Tensor& distribution) const {
+  // Masked choices carry -1e4 in both: probability 0 times a finite log-ratio adds nothing.
+  return Kl(distribution, obs.narrow(-1, obs.size(-1) - prior_, prior_));
+}
+
 torch::Tensor CategoricalActorCriticImpl::Sample(const torch::Tensor& distribution) const {
   // multinomial takes at most 2-D input: flatten the leading dimensions and restore them.
   const torch::Tensor flat = torch::softmax(distribution, -1).reshape({-1, distribution.size(-1)});

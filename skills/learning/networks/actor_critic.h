@@ -1,6 +1,8 @@
 #pragma once
+
 #include <torch/torch.h>
 
+#include <stdexcept>
 #include <vector>
 
 #include "core/config.h"
@@ -37,6 +39,12 @@ class PpoPolicyImpl : public torch::nn::Module {
   virtual torch::Tensor Kl(const torch::Tensor& old_distribution, const torch::Tensor& distribution) const = 0;
   // One action per row, drawn from the distribution (for collecting rollouts).
   virtual torch::Tensor Sample(const torch::Tensor& distribution) const = 0;
+  // Whether the policy's distribution is a learned correction of a prior carried in obs; with one,
+  // per sample KL(policy || prior).
+  virtual bool HasPrior() const { return false; }
+  virtual torch::Tensor PriorKl(const torch::Tensor& /*obs*/, const torch::Tensor& /*distribution*/) const {
+    throw std::logic_error("PriorKl: this policy has no prior");
+  }
 };
 
 // A Gaussian policy with a state-independent, learned standard deviation, and a value function.
@@ -80,6 +88,8 @@ class CategoricalActorCriticImpl : public PpoPolicyImpl {
   torch::Tensor Entropy(const torch::Tensor& distribution) const override;
   torch::Tensor Kl(const torch::Tensor& old_distribution, const torch::Tensor& distribution) const override;
   torch::Tensor Sample(const torch::Tensor& distribution) const override;
+  bool HasPrior() const override { return prior_ > 0; }
+  torch::Tensor PriorKl(const torch::Tensor& obs, const torch::Tensor& distribution) const override;
 
   // Reads the observation without its prior columns (what is exported).
   torch::nn::Sequential actor() const { return actor_; }

@@ -448,7 +448,8 @@ ProgressRecord VelocityProgress(const RunnerStats& r, const VelocityTrackingStat
       .Add("seconds_ppo", r.seconds_ppo, "%.4f")
       .Add("seconds_total", r.seconds_total, "%.4f")
       .Add("switches_per_s", s.switches_per_s, "%.3f")
-      .Add("zero_reward_share", s.zero_reward_share, "%.4f");
+      .Add("zero_reward_share", s.zero_reward_share, "%.4f")
+      .Add("prior_kl", r.ppo.prior_kl, "%.5f");
   return record;
 }
 

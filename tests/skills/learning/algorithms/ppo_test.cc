@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/check.h"
 #include "skills/learning/networks/actor_critic.h"
 
 namespace flsd {
@@ -278,6 +279,66 @@ TEST(Ppo, RewardStreamsLearnWhatAPerStepClipAtZeroErases) {
     } else {
       EXPECT_LT(share_of_choice3(policy), 0.35);  // where it started, about 1/5
     }
+  }
+}
+
+// KL(policy || prior) where the prior is the observation's trailing columns: (3/4, 1/4) against
+// the uniform prior is 3/4 log(3/2) + 1/4 log(1/2); a choice both mask adds nothing.
+TEST(CategoricalActorCritic, PriorKlOfKnownDistributions) {
+  PolicyConfig config;
+  config.actor_hidden = {8};
+  config.critic_hidden = {8};
+  CategoricalActorCritic policy(4, 4, 2, config, 1, /*prior_logits=*/true);
+  EXPECT_TRUE(policy->HasPrior());
+  const torch::Tensor obs = torch::tensor({{0.5f, -1.0f, 0.0f, 0.0f}, {0.5f, -1.0f, 0.0f, -1e4f}});
+  const torch::Tensor distribution = torch::tensor({{std::log(3.0f), 0.0f}, {0.0f, -1e4f}});
+  const torch::Tensor kl = policy->PriorKl(obs, distribution);
+  EXPECT_NEAR(kl[0].item<double>(), 0.75 * std::log(1.5) + 0.25 * std::log(0.5), 1e-6);
+  EXPECT_NEAR(kl[1].item<double>(), 0.0, 1e-7);
+  EXPECT_FALSE(CategoricalActorCritic(2, 2, 2, config)->HasPrior());
+}
+
+// A selector's prior says choice 1 (a logit of 4); the bandit pays choice 3. Without the KL term
+// PPO leaves the prior for choice 3; with it, the policy stays nearer the prior.
+TEST(Ppo, PriorKlKeepsTheSelectorNearItsPrior) {
+  PolicyConfig config;
+  config.actor_hidden = {16};
+  config.critic_hidden = {16};
+  torch::Tensor obs = torch::zeros({8, 32, 4 + 5});
+  obs.narrow(2, 0, 4).copy_(torch::randn({8, 32, 4}));
+  obs.select(2, 4 + 1).fill_(4.0f);
+  auto choice3 = [](const torch::Tensor& actions) { return (actions.select(2, 0) == 3).to(torch::kFloat32); };
+  auto train = [&](double coef, double& last_prior_kl) {
+    torch::manual_seed(6);
+    CategoricalActorCritic policy(9, 9, 5, config, 1, /*prior_logits=*/true);
+    PpoConfig ppo_config;
+    ppo_config.prior_kl_coef = coef;
+    Ppo ppo(policy.ptr(), ppo_config);
+    for (int update = 0; update < 30; ++update) {
+      const Rollout r = BanditRollout(*policy, obs, choice3);
+      const PpoStats stats = ppo.Update(r, ComputeReturns(r, torch::zeros({32}), 0.99, 0.95));
+      EXPECT_TRUE(stats.finite);
+      last_prior_kl = stats.prior_kl;
+    }
+    torch::NoGradGuard no_grad;
+    return torch::softmax(policy->Distribution(obs), -1).select(2, 3).mean().item<double>();
+  };
+  double kl_free = 0.0, kl_held = 0.0;
+  const double free = train(0.0, kl_free), held = train(1.0, kl_held);
+  EXPECT_GT(free, 0.9);
+  EXPECT_LT(held, 0.5);
+  EXPECT_GT(kl_free, 4.0 * kl_held);
+}
+
+TEST(Ppo, PriorKlWithoutAPriorIsRefusedByName) {
+  ActorCritic policy = TinyPolicy(4, 2);
+  PpoConfig config;
+  config.prior_kl_coef = 0.1;
+  try {
+    Ppo ppo(policy.ptr(), config);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ppo.prior_kl_coef"), std::string::npos) << e.what();
   }
 }
 

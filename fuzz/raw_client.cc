@@ -50,7 +50,7 @@ void RawClient::Send(const RawRequest& r) {
 }
 
 void RawClient::TakeReplies() {
-  replies_.Take([&](const flsd_msgs_Reply& m, const dds_sample_info_t&) {
+  replies_.Take([&](const flsd_msgs_Reply& m, const dds_sample_info_t& info) {
     const Key key{Text(m.header.client_id), m.header.request_id};
     const auto it = outstanding_.find(key);
     if (it == outstanding_.end()) {
@@ -62,6 +62,7 @@ void RawClient::TakeReplies() {
     r.message = Text(m.message);
     r.safety_report = Text(m.safety_report);
     r.skills = m.skills._length;
+    r.published_ns = info.source_timestamp;
   }, 1 << 20);
 }
 

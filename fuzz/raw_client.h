@@ -34,6 +34,7 @@ struct RawReply {
   flsd_msgs_ReplyStatus status = flsd_msgs_STATUS_INTERNAL;
   std::string message, safety_report;
   uint32_t skills = 0;  // list_skills: how many
+  int64_t published_ns = 0;  // the writer's CLOCK_REALTIME timestamp of the reply
 };
 
 // What the tests and the soak look at in a state sample, with its strings owned.

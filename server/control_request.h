@@ -23,7 +23,9 @@ struct ControlRequest {
   // kVelocityUpdate changes the command of the running velocity task `request_id` (the navigator's
   // steering), and is ignored once that task has ended. kDamp latches an emergency stop that only
   // kClearStop lifts (stand does not); the robot then stays damped until it is told to stand.
-  enum class Kind { kStand, kSkill, kVelocity, kVelocityUpdate, kStop, kDamp, kClearStop, kReset };
+  // kHolder: the control lease has passed to client_id (empty: to nobody); the status names it from
+  // the tick that applies it, so that the ok reply to a hand-over follows a state sample showing it.
+  enum class Kind { kStand, kSkill, kVelocity, kVelocityUpdate, kStop, kDamp, kClearStop, kReset, kHolder };
   Kind kind = Kind::kStand;
   int skill = 0;
   double duration = 0.0;  // s, kSkill and kVelocity

@@ -123,6 +123,7 @@ void Controller::Apply(const ControlRequest& request) {
     case Kind::kDamp: ApplyDamp(request); break;
     case Kind::kClearStop: ApplyClearStop(request); break;
     case Kind::kReset: ApplyReset(); break;
+    case Kind::kHolder: holder_ = request.client_id; break;
   }
 }
 
@@ -396,6 +397,7 @@ void Controller::Publish() {
     s.applied = applied_;
     s.hazards = hazards_;
     s.backend_fault = backend_fault_;
+    s.controller = holder_;
     s.task = task_.status();
   }
   status_changed_.notify_all();

@@ -78,6 +78,7 @@ struct ControllerStatus {
   uint64_t applied = 0;       // the newest ticket applied (Submit): every request up to it shows here
   uint32_t hazards = 0;       // SafetySupervisor::Hazards, plus kFaultBackend: what forbids standing now
   FixedText backend_fault{};  // the backend's account of its fault, while it has one
+  ClientId controller{};      // the control lease's holder (kHolder), empty if none
   TaskStatus task;
 };
 
@@ -91,9 +92,10 @@ class Controller {
   uint64_t Submit(const ControlRequest& request) { return requests_.Submit(request); }
 
   // For the requests that must never wait behind a full queue or be refused: the emergency stop
-  // (kDamp) and stops (kStop: a lapsed or released lease, the end of a navigation). The next tick
-  // applies them after the queue, in the order they came, so they override whatever came with
-  // them (RequestQueue). Returns the ticket, as Submit.
+  // (kDamp), stops (kStop: a lapsed or released lease, the end of a navigation) and the lease's
+  // new holder (kHolder). The next tick applies the stops and the damp after the queue, in the
+  // order they came, so they override whatever came with them (RequestQueue). Returns the
+  // ticket, as Submit.
   uint64_t SubmitUrgent(const ControlRequest& request) { return requests_.SubmitUrgent(request); }
 
   // One control period: read the state, supervise, apply queued requests, command the backend.
@@ -190,6 +192,7 @@ class Controller {
   uint64_t safety_trips_ = 0;
   ClientId stop_client_{};
   double stop_time_ = 0.0;
+  ClientId holder_{};
   PendingTask pending_;
   int skill_ = -1;  // the skill running (chosen by the selector in the velocity modes; the brake's)
   int task_ticks_left_ = 0;

@@ -89,8 +89,6 @@ void DdsService::PollLeases() {
     poll_wake_.wait_for(lock, std::chrono::milliseconds(20));
     std::lock_guard<std::mutex> handler_lock(handler_mutex_);
     handler_.Poll(MonotonicSeconds());
-    std::lock_guard<std::mutex> holder_lock(holder_mutex_);
-    holder_ = handler_.controller_id();
   }
 }
 
@@ -135,8 +133,6 @@ void DdsService::ServeRequests() {
     }
   }, 1 << 30);
   dropped_ = handler_.dropped();
-  std::lock_guard<std::mutex> holder_lock(holder_mutex_);
-  holder_ = handler_.controller_id();
 }
 
 const std::string& DdsService::IdentityOf(dds_instance_handle_t publication) {
@@ -206,17 +202,12 @@ void DdsService::AnswerApplied(uint64_t applied) {
 void DdsService::PublishState() {
   ControllerStatus s;
   uint64_t last_tick = controller_.status().tick;
-  std::string holder;
   while (running_) {
     if (!controller_.WaitForTickAfter(last_tick, std::chrono::milliseconds(100), s)) {
       AnswerApplied(s.applied);  // nothing newer applied: those waiting too long time out
       continue;
     }
     last_tick = s.tick;
-    {
-      std::lock_guard<std::mutex> lock(holder_mutex_);
-      holder = holder_;
-    }
     flsd_msgs_RobotState m{};
     m.time = s.time;
     m.tick = s.tick;
@@ -239,7 +230,7 @@ void DdsService::PublishState() {
     std::copy(r.foot_contact.begin(), r.foot_contact.end(), m.foot_contact);
     m.faults = s.faults;
     m.fault_message = s.fault_message.data();
-    m.controller = Text(holder);
+    m.controller = s.controller.data();
     m.deadline_misses = loop_.deadline_misses();
     m.requests_dropped = dropped_.load();
     m.task.client_id = s.task.client_id.data();

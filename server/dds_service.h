@@ -3,8 +3,9 @@
 // listener: no thread hand-off, so a damp reaches the controller within microseconds); a poll
 // thread lets silent leases lapse; a telemetry thread publishes one state sample per control
 // tick, then sends the replies that waited for that tick: an OK reply to a call the controller
-// applies goes out once it has, so that the next request, from any client, sees its effect,
-// while the receive thread never waits for a tick. None touches the robot; all go through the
+// applies (the lease's holder too, which the state topic names) goes out once it has, after the
+// sample that shows it, so that the next request, from any client, sees its effect, while the
+// receive thread never waits for a tick. None touches the robot; all go through the
 // Controller. With DDS Security on, a request is executed only if its client_id is its writer's
 // authenticated identity (comm/security.h), so the lease, request ids and rate limits all belong
 // to identities; motion calls are audited.
@@ -82,8 +83,6 @@ class DdsService {
   std::mutex waiting_mutex_;
   std::vector<WaitingReply> waiting_;
   std::atomic<uint64_t> dropped_{0};
-  std::mutex holder_mutex_;
-  std::string holder_;  // the lease holder, for telemetry
 
   // Last, so that they go first: the listener may fire as soon as the reader exists, and uses
   // every member above. Stop() removes it before anything is torn down.

@@ -88,6 +88,7 @@ bool RequestHandler::TakeToken(ClientState& client, double now) {
 void RequestHandler::Poll(double now) {
   const std::string holder = lease_.holder();
   if (lease_.Expire(now)) {
+    AnnounceHolder();
     StopTaskOf(holder, TaskState::kLeaseLost,
                "control lease of " + holder + " lapsed after " + Seconds(lease_.timeout()) + " without a request; standing");
   }
@@ -105,6 +106,13 @@ uint64_t RequestHandler::StopTaskOf(const std::string& client_id, TaskState stat
   SetText(stop.client_id, client_id.c_str());
   SetText(stop.reason, reason.c_str());
   return controller_.SubmitUrgent(stop);
+}
+
+uint64_t RequestHandler::AnnounceHolder() {
+  ControlRequest holder;
+  holder.kind = ControlRequest::Kind::kHolder;
+  SetText(holder.client_id, lease_.holder().c_str());
+  return controller_.SubmitUrgent(holder);
 }
 
 std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& request, double now, int64_t wall_ns,
@@ -165,8 +173,8 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     if (!lease_.Acquire(client_id, now)) {
       return Reply(ReplyStatus::kNotInControl, "control is held by " + lease_.holder());
     }
-    return Reply(ReplyStatus::kOk, "control granted; it lapses after " + Seconds(lease_.timeout()) +
-                                          " without a request from this client");
+    return Applied(AnnounceHolder(), "control granted; it lapses after " + Seconds(lease_.timeout()) +
+                                         " without a request from this client");
   }
   if (call == Call::kRenewControl) {  // a heartbeat: never grants a lease that is not held
     if (!lease_.Renew(client_id, now)) {
@@ -179,6 +187,7 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     if (!lease_.Release(client_id)) {
       return Reply(ReplyStatus::kNotInControl, "this client does not hold control");
     }
+    AnnounceHolder();  // its ticket is below the stop's, which the reply waits for
     return Applied(StopTaskOf(client_id, TaskState::kCancelled, "control released", request.header.request_id),
                    "control released; the robot stands");
   }

@@ -81,6 +81,10 @@ class RequestHandler {
   // Returns the stop's ticket.
   uint64_t StopTaskOf(const std::string& client_id, TaskState state, const std::string& reason,
                       uint64_t before = 0);
+  // Tells the controller who holds the lease now, so that the state topic names the holder from
+  // the tick that applies it. Returns that request's ticket: a reply to a call that changed the
+  // holder waits for it.
+  uint64_t AnnounceHolder();
   // Why the robot cannot start moving now (a latched stop, a hazard), or empty.
   std::string MotionBlocked(const ControllerStatus& status) const;
   // Who may clear the latched emergency stop, and how; what forbids stiffening the joints and its remedy.

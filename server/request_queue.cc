@@ -18,6 +18,9 @@ uint64_t RequestQueue::SubmitUrgent(const ControlRequest& request) {
   if (request.kind == ControlRequest::Kind::kDamp) {
     urgent_damp_ = request;
     have_urgent_damp_ = true;
+  } else if (request.kind == ControlRequest::Kind::kHolder) {
+    urgent_holder_ = request;
+    have_urgent_holder_ = true;
   } else if (urgent_stop_count_ < kUrgentStops) {
     urgent_stops_[urgent_stop_count_++] = request;
   } else {  // a flood of hand-overs within one tick: stop more than was asked, never less
@@ -36,6 +39,8 @@ RequestQueue::Taken RequestQueue::Take() {
   std::copy_n(urgent_stops_.begin(), taken.stops, taken_stops_.begin());
   taken.damp = std::exchange(have_urgent_damp_, false);
   taken_damp_ = urgent_damp_;
+  taken.holder = std::exchange(have_urgent_holder_, false);
+  taken_holder_ = urgent_holder_;
   taken.newest = last_ticket_;
   return taken;
 }

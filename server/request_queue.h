@@ -1,9 +1,9 @@
 #pragma once
 // The requests waiting for the next control tick: a bounded queue, and beside it the urgent ones
-// that must never wait behind a full queue or be refused (the emergency stop, and stops: a lapsed
-// or released lease, the end of a navigation). Any thread submits; the control thread takes them
-// all once per tick. Each request gets a ticket, counting up, so that the request side can tell
-// when a tick has applied it. Nothing here allocates.
+// that must never wait behind a full queue or be refused (the emergency stop; stops: a lapsed or
+// released lease, the end of a navigation; the lease's new holder). Any thread submits; the
+// control thread takes them all once per tick. Each request gets a ticket, counting up, so that
+// the request side can tell when a tick has applied it. Nothing here allocates.
 
 #include <array>
 #include <cstdint>
@@ -20,21 +20,21 @@ class RequestQueue {
 
   // Returns the request's ticket, or 0 if the queue is full (a flood).
   uint64_t Submit(const ControlRequest& request);
-  // Returns the request's ticket. The newest damp is kept; stops beyond kUrgentStops merge into one
-  // stop of whatever runs.
+  // Returns the request's ticket. The newest damp and the newest holder are kept; stops beyond
+  // kUrgentStops merge into one stop of whatever runs.
   uint64_t SubmitUrgent(const ControlRequest& request);
 
-  // Calls apply(request) for every request waiting, in the order they apply: the queue first, then
-  // the urgent stops in the order they came, then the newest damp, so that the urgent ones override
-  // whatever came with them. No lock is held while `apply` runs. Returns the newest ticket taken:
-  // every request with a ticket up to it has now been applied.
+  // Calls apply(request) for every request waiting, in the order they apply: the newest holder,
+  // the queue, then the urgent stops in the order they came, then the newest damp, so that the
+  // urgent ones override whatever came with them. No lock is held while `apply` runs. Returns the
+  // newest ticket taken: every request with a ticket up to it has now been applied.
   template <class Apply>
   uint64_t TakeAll(Apply&& apply);
 
  private:
   struct Taken {
     int queued = 0, stops = 0;
-    bool damp = false;
+    bool damp = false, holder = false;
     uint64_t newest = 0;
   };
   // Moves every waiting request to the taker's copies under one lock, so that none with a ticket
@@ -46,18 +46,21 @@ class RequestQueue {
   int head_ = 0, count_ = 0;
   ControlRequest urgent_damp_;
   bool have_urgent_damp_ = false;
+  ControlRequest urgent_holder_;
+  bool have_urgent_holder_ = false;
   std::array<ControlRequest, kUrgentStops> urgent_stops_{};
   int urgent_stop_count_ = 0;
   uint64_t last_ticket_ = 0;
   // The control thread's copies of what it took.
   std::array<ControlRequest, kSize> taken_queue_{};
-  ControlRequest taken_damp_;
+  ControlRequest taken_damp_, taken_holder_;
   std::array<ControlRequest, kUrgentStops> taken_stops_{};
 };
 
 template <class Apply>
 uint64_t RequestQueue::TakeAll(Apply&& apply) {
   const Taken taken = Take();
+  if (taken.holder) apply(taken_holder_);
   for (int i = 0; i < taken.queued; ++i) apply(taken_queue_[i]);
   for (int i = 0; i < taken.stops; ++i) apply(taken_stops_[i]);
   if (taken.damp) apply(taken_damp_);

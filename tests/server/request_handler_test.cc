@@ -119,13 +119,15 @@ TEST_F(RequestHandlerTest, AnyClientMayDamp) {
 // it once the published status has reached it, so that the next request sees the call's effect.
 // The lease changes at once.
 TEST_F(RequestHandlerTest, AnOkReplyNamesTheTicketOfTheRequestItWaitsFor) {
-  EXPECT_EQ(Send("a", "acquire_control").ticket, 0u);
   const auto applied_by_the_next_tick = [&](const ReplyContent& reply) {
     EXPECT_EQ(reply.status, ReplyStatus::kOk) << reply.message;
     EXPECT_GT(reply.ticket, controller_.status().applied);
     controller_.Tick();
     return controller_.status().applied >= reply.ticket;
   };
+  EXPECT_TRUE(applied_by_the_next_tick(Send("a", "acquire_control")));  // the state topic names the holder
+  EXPECT_EQ(Send("a", "renew_control").ticket, 0u);  // nothing for the tick to apply: answered at once
+  EXPECT_EQ(Send("a", "status").ticket, 0u);
   EXPECT_TRUE(applied_by_the_next_tick(Send("a", "damp")));
   EXPECT_EQ(Send("a", "stand").status, ReplyStatus::kSafetyStop);
   EXPECT_TRUE(applied_by_the_next_tick(Send("a", "clear_stop")));
@@ -402,6 +404,39 @@ TEST_F(RequestHandlerTest, EveryRequestOfTheHolderRenewsTheLease) {
   }
   handler_.Poll(5.51);  // 1.01 s of silence after the last status
   EXPECT_EQ(handler_.controller_id(), "");
+}
+
+// The state topic names the lease's holder from the tick that applies a hand-over, and the OK
+// reply to the call that handed it over waits for that tick (its ticket), as a stand's does.
+TEST_F(RequestHandlerTest, AHandOverIsAnsweredOnceTheStatusNamesTheNewHolder) {
+  const auto holder = [&] { return std::string(controller_.status().controller.data()); };
+  const ReplyContent acquire = Send("a", "acquire_control");
+  ASSERT_EQ(acquire.status, ReplyStatus::kOk);
+  EXPECT_GT(acquire.ticket, controller_.status().applied);
+  EXPECT_EQ(holder(), "");
+  controller_.Tick();
+  EXPECT_GE(controller_.status().applied, acquire.ticket);
+  EXPECT_EQ(holder(), "a");
+
+  const ReplyContent release = Send("a", "release_control", 0.1);
+  ASSERT_EQ(release.status, ReplyStatus::kOk);
+  EXPECT_GT(release.ticket, controller_.status().applied);
+  EXPECT_EQ(holder(), "a");
+  controller_.Tick();
+  EXPECT_GE(controller_.status().applied, release.ticket);
+  EXPECT_EQ(holder(), "");
+
+  // A refused acquire changes nothing and is answered at once.
+  ASSERT_EQ(Send("b", "acquire_control", 0.2).status, ReplyStatus::kOk);
+  const ReplyContent refused = Send("c", "acquire_control", 0.3);
+  EXPECT_EQ(refused.status, ReplyStatus::kNotInControl);
+  EXPECT_EQ(refused.ticket, 0u);
+  controller_.Tick();
+  EXPECT_EQ(holder(), "b");
+  // A lapse names nobody from its tick on.
+  handler_.Poll(1.3);
+  controller_.Tick();
+  EXPECT_EQ(holder(), "");
 }
 
 TEST_F(RequestHandlerTest, AFloodIsDroppedAndCountedAndTheServerKeepsAnswering) {

@@ -40,8 +40,8 @@ struct ControlRequest {
   // client starts next, which the queue applies first when both come within one tick).
   enum class Scope { kAny, kClient, kTask };  // whatever runs; client_id's task; request_id's task
   Scope scope = Scope::kAny;
-  double pressed_at = 0.0;  // kClearStop: the press it clears (ControllerStatus.stop_time); a later one stays
   FixedText reason{};  // kStop, kDamp: why, for the task's message; kVelocityUpdate: progress
+  uint64_t ticket = 0;  // set by RequestQueue: what the controller records a refusal under
 };
 
 template <std::size_t N>

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iterator>
+#include <limits>
 
 
 namespace flsd {
@@ -31,6 +33,21 @@ std::optional<HierarchicalPolicy> MakeHierarchy(const SkillLibrary& library, con
 }
 
 }  // namespace
+
+void StopPresses::Press(const ClientId& by, double at) {
+  if (std::strcmp(by.data(), client.data()) != 0) {
+    other_client = client;  // empty before the first press: nobody else's press then
+    other_time = time;
+    client = by;
+  }
+  time = at;
+}
+
+double StopPresses::ClearableAt(const char* by, double hold_time) const {
+  if (std::strcmp(by, client.data()) != 0) return time + hold_time;
+  if (other_client[0] == '\0') return -std::numeric_limits<double>::infinity();
+  return other_time + hold_time;
+}
 
 Controller::Controller(Backend& backend, const SkillLibrary& library, const ServerConfig& config)
     : backend_(backend),
@@ -115,23 +132,24 @@ int Controller::TaskTicksLeft() const {
 void Controller::Apply(const ControlRequest& request) {
   using Kind = ControlRequest::Kind;
   switch (request.kind) {
-    case Kind::kStand: ApplyStand(); break;
+    case Kind::kStand: ApplyStand(request); break;
     case Kind::kSkill: ApplySkill(request); break;
     case Kind::kVelocity: ApplyVelocity(request); break;
     case Kind::kVelocityUpdate: ApplyVelocityUpdate(request); break;
     case Kind::kStop: ApplyStop(request); break;
     case Kind::kDamp: ApplyDamp(request); break;
     case Kind::kClearStop: ApplyClearStop(request); break;
-    case Kind::kReset: ApplyReset(); break;
+    case Kind::kReset: ApplyReset(request); break;
     case Kind::kHolder: holder_ = request.client_id; break;
   }
 }
 
-void Controller::ApplyStand() {
-  // Never stiffen a robot that is on its side, out of range, or not being sensed (the request
-  // side refuses these too; this catches what changed since it looked).
-  if (hazards_ != 0) return;
-  if (latched_faults_ & kFaultStop) return;  // an emergency stop is lifted on purpose only
+void Controller::ApplyStand(const ControlRequest& request) {
+  // An emergency stop is lifted on purpose only, and a robot on its side, out of range or not
+  // being sensed is never stiffened. The request side refuses these too; this catches what
+  // changed since it looked, in the order it checks.
+  if (latched_faults_ & kFaultStop) return Refuse(request, latched_faults_, 0);
+  if (hazards_ != 0) return Refuse(request, 0, hazards_);
   task_.End(TaskState::kPreempted, "preempted by stand");
   latched_faults_ = 0;
   fault_message_[0] = '\0';
@@ -150,12 +168,14 @@ bool Controller::StartMotionTask(const ControlRequest& request, Call call, const
     char why[96];
     std::snprintf(why, sizeof why, "a safety stop latched before the %s could start", noun);
     task_.End(TaskState::kSafetyStop, why);
+    Refuse(request, latched_faults_, 0);
     return false;
   }
   if (hazards_ != 0) {  // as for stand: never stiffen a robot that is down or unsensed
     char why[192];
     DescribeFaults(hazards_, robot_, config_.safety, why, sizeof why, backend_fault_.data());
     task_.End(TaskState::kSafetyStop, why);
+    Refuse(request, 0, hazards_);
     return false;
   }
   return true;
@@ -213,14 +233,18 @@ void Controller::ApplyStop(const ControlRequest& request) {
 void Controller::ApplyDamp(const ControlRequest& request) {
   task_.End(TaskState::kCancelled, request.reason.data());
   EnterDamp(kFaultStop);
-  stop_client_ = request.client_id;  // the newest press is the one to clear
-  stop_time_ = static_cast<double>(tick_) * a1::kControlDt;
+  stop_.Press(request.client_id, static_cast<double>(tick_) * a1::kControlDt);
 }
 
 void Controller::ApplyClearStop(const ControlRequest& request) {
-  if (!(latched_faults_ & kFaultStop) || request.pressed_at != stop_time_) return;
+  if (!(latched_faults_ & kFaultStop)) return;  // cleared already: what the caller asked for holds
+  // Another client may have pressed it since the request side looked.
+  const double now = static_cast<double>(tick_) * a1::kControlDt;
+  if (now < stop_.ClearableAt(request.client_id.data(), config_.safety.stop_hold_time)) {
+    return Refuse(request, latched_faults_, 0);
+  }
   latched_faults_ &= ~kFaultStop;
-  stop_client_[0] = '\0';
+  stop_ = StopPresses{};
   if (latched_faults_ == 0) {  // nothing else latched: damped and idle until told to stand
     fault_message_[0] = '\0';
     if (state_ == ControlState::kDamp) state_ = ControlState::kIdle;
@@ -230,8 +254,9 @@ void Controller::ApplyClearStop(const ControlRequest& request) {
   }
 }
 
-void Controller::ApplyReset() {
-  if (!backend_.CanReset() || (latched_faults_ & kFaultStop)) return;  // as for stand
+void Controller::ApplyReset(const ControlRequest& request) {
+  if (!backend_.CanReset()) return;  // the request side refuses it: the backend never changes
+  if (latched_faults_ & kFaultStop) return Refuse(request, latched_faults_, 0);  // as for stand
   task_.End(TaskState::kCancelled, "the simulation was reset");
   backend_.Reset();
   robot_ = backend_.Read();
@@ -243,6 +268,31 @@ void Controller::ApplyReset() {
   pending_ = PendingTask{};
   stand_.ResetRecoveries();
   EnterStand();
+}
+
+void Controller::Refuse(const ControlRequest& request, uint32_t latched, uint32_t hazards) {
+  if (request.ticket == 0) return;  // not from the queue: nobody waits for it
+  ApplyRefusal refusal;
+  refusal.ticket = request.ticket;
+  refusal.latched = latched;
+  refusal.hazards = hazards;
+  if (latched != 0) {
+    refusal.reason = fault_message_;
+  } else {
+    DescribeFaults(hazards, robot_, config_.safety, refusal.reason.data(), refusal.reason.size(),
+                   backend_fault_.data());
+  }
+  std::lock_guard<std::mutex> lock(status_mutex_);  // rare: only a refusal takes it mid-tick
+  refusals_[request.ticket % kRefusals] = refusal;
+}
+
+Controller::Outcome Controller::OutcomeOf(uint64_t ticket, ApplyRefusal* refusal) const {
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  const ApplyRefusal& slot = refusals_[ticket % kRefusals];
+  if (slot.ticket > ticket) return Outcome::kUnknown;  // a later refusal took its slot
+  if (slot.ticket < ticket) return Outcome::kApplied;  // its refusal would have taken the slot
+  if (refusal != nullptr) *refusal = slot;
+  return Outcome::kRefused;
 }
 
 void Controller::EnterStand() {
@@ -392,8 +442,7 @@ void Controller::Publish() {
     s.faults = latched_faults_;
     s.fault_message = fault_message_;
     s.safety_trips = safety_trips_;
-    s.stop_client = stop_client_;
-    s.stop_time = stop_time_;
+    s.stop = stop_;
     s.applied = applied_;
     s.hazards = hazards_;
     s.backend_fault = backend_fault_;

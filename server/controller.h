@@ -63,6 +63,27 @@ inline constexpr ControlStateRow kControlStates[] = {
 };
 constexpr const ControlStateRow& Row(ControlState state) { return kControlStates[static_cast<int>(state)]; }
 
+// The presses of the emergency stop latched now: the newest, and the newest from another client.
+// Nobody may undo another's press before stop_hold_time has passed since it; a press of one's own
+// bars nothing. The two presses are enough: any older press of a third client is older than both.
+struct StopPresses {
+  ClientId client{}, other_client{};  // other_client empty: every press is client's
+  double time = 0.0, other_time = 0.0;  // s, control time
+
+  void Press(const ClientId& by, double at);
+  // When `by` may clear the stop (control time, s): at once if every press is its own.
+  double ClearableAt(const char* by, double hold_time) const;
+};
+
+// Why a tick refused a request that the request side had accepted: what changed in between (the
+// robot became unsafe to move, a stop latched, another client pressed the emergency stop).
+struct ApplyRefusal {
+  uint64_t ticket = 0;
+  uint32_t latched = 0;  // the faults latched then, when they refused it (kFaultStop: an emergency stop)
+  uint32_t hazards = 0;  // otherwise, the hazards that did
+  FixedText reason{};    // those faults or hazards described then
+};
+
 // Everything the server publishes about one tick.
 struct ControllerStatus {
   RobotState state;
@@ -73,8 +94,7 @@ struct ControllerStatus {
   uint32_t faults = 0;  // latched since the last stop; zero while none is latched
   FixedText fault_message{};
   uint64_t safety_trips = 0;  // ever; a client compares counts to learn of new trips
-  ClientId stop_client{};     // who pressed the emergency stop latched now (kFaultStop)
-  double stop_time = 0.0;     // s, when it was pressed
+  StopPresses stop;           // who pressed the emergency stop latched now (kFaultStop), and when
   uint64_t applied = 0;       // the newest ticket applied (Submit): every request up to it shows here
   uint32_t hazards = 0;       // SafetySupervisor::Hazards, plus kFaultBackend: what forbids standing now
   FixedText backend_fault{};  // the backend's account of its fault, while it has one
@@ -102,6 +122,11 @@ class Controller {
   void Tick();
 
   ControllerStatus status() const;
+  // What became of the request with `ticket` once status().applied has reached it: applied, or
+  // refused by its tick (`refusal` says why), or unknown if so many later refusals have come
+  // since that its record is gone.
+  enum class Outcome { kApplied, kRefused, kUnknown };
+  Outcome OutcomeOf(uint64_t ticket, ApplyRefusal* refusal = nullptr) const;
   // Waits until a tick after `tick` has been published (or `timeout`); copies it to `out`.
   bool WaitForTickAfter(uint64_t tick, std::chrono::nanoseconds timeout, ControllerStatus& out) const;
 
@@ -123,14 +148,16 @@ class Controller {
   // Reads the backend's fault and the state's hazards, checks the supervisor, damps on a fault.
   void Supervise();
   void Apply(const ControlRequest& request);
-  void ApplyStand();
+  void ApplyStand(const ControlRequest& request);
   void ApplySkill(const ControlRequest& request);
   void ApplyVelocity(const ControlRequest& request);
   void ApplyVelocityUpdate(const ControlRequest& request);
   void ApplyStop(const ControlRequest& request);
   void ApplyDamp(const ControlRequest& request);
   void ApplyClearStop(const ControlRequest& request);
-  void ApplyReset();
+  void ApplyReset(const ControlRequest& request);
+  // Records that this tick refused `request` (ApplyRefusal), for the reply that waits for it.
+  void Refuse(const ControlRequest& request, uint32_t latched, uint32_t hazards);
   // Starts `request`'s task (ending, as preempted by `what`, any that runs). False when the robot
   // may not move now (a stop latched after the request side accepted it, or a hazard): the task
   // has then ended with the reason.
@@ -190,8 +217,7 @@ class Controller {
   FixedText fault_message_{};
   FixedText backend_fault_{};  // the backend's account of its fault, while it has one
   uint64_t safety_trips_ = 0;
-  ClientId stop_client_{};
-  double stop_time_ = 0.0;
+  StopPresses stop_;
   ClientId holder_{};
   PendingTask pending_;
   int skill_ = -1;  // the skill running (chosen by the selector in the velocity modes; the brake's)
@@ -204,6 +230,10 @@ class Controller {
   mutable std::mutex status_mutex_;
   mutable std::condition_variable status_changed_;
   ControllerStatus published_;
+  // Refusals by ticket modulo their count (they come in ticket order): a reply looks its ticket
+  // up within a tick or two of it, long before 64 later refusals could have overwritten it.
+  static constexpr int kRefusals = 64;
+  std::array<ApplyRefusal, kRefusals> refusals_{};
 };
 
 }  // namespace flsd

@@ -174,7 +174,8 @@ void DdsService::Answer(const ReplyContent& content, const DeferredReply& send) 
   waiting_.push_back({content, send, MonotonicSeconds() + kApplyTimeout});
 }
 
-void DdsService::AnswerApplied(uint64_t applied) {
+void DdsService::AnswerApplied(const ControllerStatus& status) {
+  const uint64_t applied = status.applied;
   std::vector<WaitingReply> due;
   {
     std::lock_guard<std::mutex> lock(waiting_mutex_);
@@ -194,6 +195,8 @@ void DdsService::AnswerApplied(uint64_t applied) {
                     "call status before retrying", kApplyTimeout);
       w.content.status = ReplyStatus::kInternal;
       w.content.message = text;
+    } else if (w.content.settle) {
+      w.content.settle(w.content, status);
     }
     w.send(w.content);
   }
@@ -204,7 +207,7 @@ void DdsService::PublishState() {
   uint64_t last_tick = controller_.status().tick;
   while (running_) {
     if (!controller_.WaitForTickAfter(last_tick, std::chrono::milliseconds(100), s)) {
-      AnswerApplied(s.applied);  // nothing newer applied: those waiting too long time out
+      AnswerApplied(s);  // nothing newer applied: those waiting too long time out
       continue;
     }
     last_tick = s.tick;
@@ -250,7 +253,7 @@ void DdsService::PublishState() {
     } catch (const dds::Error& e) {
       spdlog::warn("state sample not sent: {}", e.what());
     }
-    AnswerApplied(s.applied);  // after the sample of the tick that applied them
+    AnswerApplied(s);  // after the sample of the tick that applied them
   }
 }
 

@@ -46,9 +46,10 @@ class DdsService {
   void PublishState();
   // Sends `content` now, or once status().applied reaches its ticket (ReplyContent::ticket).
   void Answer(const ReplyContent& content, const DeferredReply& send);
-  // Sends the waiting replies whose requests the controller has applied, up to ticket `applied`,
-  // and, as an error, those that have waited past kApplyTimeout.
-  void AnswerApplied(uint64_t applied);
+  // Sends the waiting replies whose requests the controller has applied (up to `status`.applied),
+  // as `status` settles them (ReplyContent::settle), and, as an error, those that have waited past
+  // kApplyTimeout.
+  void AnswerApplied(const ControllerStatus& status);
   // Thread-safe: the navigator answers navigate requests whose maps it has read.
   void SendReply(const std::string& client_id, uint64_t request_id, int64_t deadline_ns, const ReplyContent& content);
 

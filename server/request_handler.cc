@@ -17,10 +17,13 @@ ReplyContent Reply(ReplyStatus status, std::string message) {
   return r;
 }
 
-// An OK reply to a call that the next control tick applies: sent once it has (ReplyContent::ticket).
-ReplyContent Applied(uint64_t ticket, std::string message) {
+// An OK reply to a call that the next control tick applies: sent once it has (ReplyContent::ticket),
+// as `settle` revises it.
+ReplyContent Applied(uint64_t ticket, std::string message,
+                     std::function<void(ReplyContent&, const ControllerStatus&)> settle = nullptr) {
   ReplyContent r = Reply(ReplyStatus::kOk, std::move(message));
   r.ticket = ticket;
+  r.settle = std::move(settle);
   return r;
 }
 
@@ -38,6 +41,52 @@ std::string Seconds(double s) {
 std::string DurationError(double duration, double max) {
   if (std::isfinite(duration) && duration > 0.0 && duration <= max) return "";
   return "duration must be in (0, " + Seconds(max) + "], got " + std::to_string(duration);
+}
+
+// The words of a refusal that need none of the handler's state, so that a reply settled on the
+// telemetry thread (ReplyContent::settle) says what the handler says.
+struct RefusalTexts {
+  double hold_time;  // safety.stop_hold_time
+  bool can_reset;    // the backend can put a fallen robot back
+
+  // Who may clear the emergency stop latched in `status`, and when.
+  std::string Stop(const ControllerStatus& status) const {
+    const StopPresses& stop = status.stop;
+    const std::string who = stop.client[0] != '\0' ? stop.client.data() : "the server";
+    if (stop.other_client[0] == '\0') {
+      return "an emergency stop from " + who + " is latched; call clear_stop (" + who +
+             " may at once, any client after " + Seconds(hold_time) + "), then stand";
+    }
+    const std::string other = stop.other_client.data();
+    return "emergency stops from " + who + " and from " + other + " are latched; call clear_stop (" + who + " may " +
+           Seconds(hold_time) + " after " + other + "'s press, any client " + Seconds(hold_time) + " after " + who +
+           "'s), then stand";
+  }
+  std::string CannotClear(const ControllerStatus& status, const std::string& client) const {
+    const double left = status.stop.ClearableAt(client.c_str(), hold_time) - status.time;
+    return Stop(status) + " (" + Seconds(std::max(0.0, left)) + " left)";
+  }
+  // The remedy for the cause, not a guess: a robot on its side and a joint out of range are
+  // fixed by hand; a backend fault's own account (a motor out of servo mode, no frames) says what
+  // is wrong, and only the robot can fix it.
+  std::string Remedy(uint32_t hazards) const {
+    if (can_reset) return "; call reset";
+    if (hazards & kFaultTilt) return "; put the robot upright";
+    if (hazards & kFaultJointRange) return "; move the joint back into its range";
+    return "";
+  }
+  // Why a motion cannot start: `latched` faults (`fault_message`), else `hazards` (`described`).
+  std::string Blocked(const ControllerStatus& status, uint32_t latched, const char* fault_message, uint32_t hazards,
+                      const char* described) const {
+    if (latched & kFaultStop) return Stop(status);
+    if (latched != 0) return std::string("a safety stop is latched (") + fault_message + "); call stand first";
+    if (hazards != 0) return "cannot start moving: " + (described + Remedy(hazards));
+    return "";
+  }
+};
+
+RefusalTexts TextsOf(const ServerConfig& config, const Controller& controller) {
+  return {config.safety.stop_hold_time, controller.backend_can_reset()};
 }
 
 }  // namespace
@@ -198,8 +247,10 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     SetText(damp.client_id, client_id.c_str());
     damp.request_id = request.header.request_id;
     const uint64_t ticket = controller_.SubmitUrgent(damp);
-    return Applied(ticket, "damping; latched until clear_stop (from this client, or from any after " +
-                               Seconds(config_.safety.stop_hold_time) + "), then stand");
+    return Applied(ticket,
+                   "damping; latched until clear_stop (from this client, or from any after " +
+                       Seconds(config_.safety.stop_hold_time) + "), then stand",
+                   Settle(call, client_id));
   }
   if (call == Call::kClearStop) return ClearStop(client_id);
   FLSD_DEMAND(Spec(call).needs_control);  // every other call moves the robot
@@ -239,8 +290,10 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
     control.duration = request.duration;
     const uint64_t ticket = Submit(control, client_id, request.header.request_id);
     if (ticket == 0) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
-    return Applied(ticket, "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
-                               " accepted; progress is on the state topic");
+    return Applied(ticket,
+                   "skill " + std::to_string(k) + " for " + Seconds(request.duration) +
+                       " accepted; progress is on the state topic",
+                   Settle(call, client_id));
   }
   if (call == Call::kTrackVelocity || call == Call::kNavigate) return Velocity(request, call, client_id, later);
   if (call == Call::kReset && !controller_.backend_can_reset()) {
@@ -259,58 +312,83 @@ std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& requ
   SetText(control.reason, ("stopped by " + client_id).c_str());
   const uint64_t ticket = Submit(control, client_id, request.header.request_id);
   if (ticket == 0) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
-  return Applied(ticket, call == Call::kStand  ? "standing"
-                         : call == Call::kStop ? "stopping; the robot stands"
-                                               : "reset");
+  return Applied(ticket,
+                 call == Call::kStand  ? "standing"
+                 : call == Call::kStop ? "stopping; the robot stands"
+                                       : "reset",
+                 Settle(call, client_id));
 }
 
 std::string RequestHandler::MotionBlocked(const ControllerStatus& status) const {
-  if (status.faults & kFaultStop) return EmergencyStopText(status);
-  if (status.faults != 0) {
-    return std::string("a safety stop is latched (") + status.fault_message.data() + "); call stand first";
-  }
-  if (status.hazards != 0) return "cannot start moving: " + HazardText(status);
-  return "";
+  char described[192];
+  DescribeFaults(status.hazards, status.state, config_.safety, described, sizeof described,
+                 status.backend_fault.data());
+  return TextsOf(config_, controller_)
+      .Blocked(status, status.faults, status.fault_message.data(), status.hazards, described);
 }
 
 std::string RequestHandler::EmergencyStopText(const ControllerStatus& status) const {
-  const std::string who = status.stop_client[0] != '\0' ? status.stop_client.data() : "the server";
-  return "an emergency stop from " + who + " is latched; call clear_stop (" + who + " may at once, any client after " +
-         Seconds(config_.safety.stop_hold_time) + "), then stand";
+  return TextsOf(config_, controller_).Stop(status);
 }
 
 std::string RequestHandler::HazardText(const ControllerStatus& status) const {
   char text[192];
   DescribeFaults(status.hazards, status.state, config_.safety, text, sizeof text, status.backend_fault.data());
-  // The remedy for the cause, not a guess: a robot on its side and a joint out of range are
-  // fixed by hand; a backend fault's own account (a motor out of servo mode, no frames) says what
-  // is wrong, and only the robot can fix it.
-  std::string remedy;
-  if (controller_.backend_can_reset()) {
-    remedy = "; call reset";
-  } else if (status.hazards & kFaultTilt) {
-    remedy = "; put the robot upright";
-  } else if (status.hazards & kFaultJointRange) {
-    remedy = "; move the joint back into its range";
+  return text + TextsOf(config_, controller_).Remedy(status.hazards);
+}
+
+std::function<void(ReplyContent&, const ControllerStatus&)> RequestHandler::Settle(Call call,
+                                                                                   const std::string& client_id) const {
+  const RefusalTexts texts = TextsOf(config_, controller_);
+  if (call == Call::kDamp) {
+    // Another client's press in the same tick is as much a stop: this one alone no longer clears it.
+    return [texts, client_id](ReplyContent& reply, const ControllerStatus& status) {
+      if (!(status.faults & kFaultStop)) {
+        reply.message = "damped; the emergency stop has been cleared since";
+      } else if (status.stop.other_client[0] != '\0' || client_id != status.stop.client.data()) {
+        reply.message = "damping; " + texts.Stop(status);
+      }
+    };
   }
-  return text + remedy;
+  const Controller* controller = &controller_;
+  return [controller, texts, call, client_id](ReplyContent& reply, const ControllerStatus& status) {
+    ApplyRefusal refusal;
+    switch (controller->OutcomeOf(reply.ticket, &refusal)) {
+      case Controller::Outcome::kApplied: return;
+      case Controller::Outcome::kUnknown:
+        reply.status = ReplyStatus::kInternal;
+        reply.message = "the control loop has applied the request, but its outcome is no longer on record; call status";
+        return;
+      case Controller::Outcome::kRefused: break;
+    }
+    reply.status = ReplyStatus::kSafetyStop;
+    if (call == Call::kClearStop) {
+      reply.message = texts.CannotClear(status, client_id);
+    } else if ((call == Call::kStand || call == Call::kReset) && (refusal.latched & kFaultStop)) {
+      reply.message = std::string("cannot ") + CallName(call) + ": " + texts.Stop(status);
+    } else if (call == Call::kStand) {
+      reply.message = "cannot stand: " + (refusal.reason.data() + texts.Remedy(refusal.hazards));
+    } else {
+      const char* why = refusal.reason.data();
+      reply.message = texts.Blocked(status, refusal.latched, why, refusal.hazards, why);
+    }
+  };
 }
 
 ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
   const ControllerStatus status = controller_.status();
   if (!(status.faults & kFaultStop)) return Reply(ReplyStatus::kOk, "no emergency stop is latched");
-  const double held = status.time - status.stop_time;
-  if (client_id != status.stop_client.data() && held < config_.safety.stop_hold_time) {
-    return Reply(ReplyStatus::kSafetyStop, EmergencyStopText(status) + " (" +
-                                                   Seconds(config_.safety.stop_hold_time - held) + " left)");
+  // Nobody, a presser included, undoes another client's press before the hold time has passed since it.
+  if (status.time < status.stop.ClearableAt(client_id.c_str(), config_.safety.stop_hold_time)) {
+    return Reply(ReplyStatus::kSafetyStop, TextsOf(config_, controller_).CannotClear(status, client_id));
   }
   ControlRequest clear;
   clear.kind = ControlRequest::Kind::kClearStop;
-  clear.pressed_at = status.stop_time;
   SetText(clear.client_id, client_id.c_str());
   const uint64_t ticket = controller_.Submit(clear);
   if (ticket == 0) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
-  return Applied(ticket, "emergency stop cleared; the robot stays damped until stand");
+  return Applied(ticket, "emergency stop cleared; the robot stays damped until stand",
+                 Settle(Call::kClearStop, client_id));
 }
 
 std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& request, Call call,
@@ -402,10 +480,12 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
     navigator_->Cancel();
     SetText(control.client_id, client_id.c_str());
     control.request_id = request.header.request_id;
+    auto settle = Settle(call, client_id);
     navigator_->Start(MapRequest{std::move(*job), std::move(map_yaml), control, accepted,
-                                 [later](ReplyStatus status, const std::string& message, uint64_t ticket) {
+                                 [later, settle](ReplyStatus status, const std::string& message, uint64_t ticket) {
                                    ReplyContent r = Reply(status, message);
                                    r.ticket = ticket;
+                                   if (ticket != 0) r.settle = settle;
                                    later(r);
                                  }});
     return std::nullopt;
@@ -413,7 +493,7 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
   const uint64_t ticket = Submit(control, client_id, request.header.request_id);
   if (ticket == 0) return Reply(ReplyStatus::kInternal, "the control queue is full; retry");
   if (job) navigator_->Start(std::move(*job));
-  return Applied(ticket, accepted);
+  return Applied(ticket, accepted, Settle(call, client_id));
 }
 
 uint64_t RequestHandler::Submit(ControlRequest request, const std::string& client_id, uint64_t request_id) {

@@ -28,6 +28,11 @@ struct ReplyContent {
   // Nonzero: the ticket of the request this call submitted (Controller::Submit). The reply is sent
   // only once the controller's status has reached it, so that the next request sees its effect.
   uint64_t ticket = 0;
+  // With a ticket: revises the reply, before it is sent, with the status of a tick that has
+  // applied its request. That tick may have refused what was accepted here (the robot went down,
+  // or a stop latched, in between), and it fixes who may clear the stop a damp latched. Runs on
+  // the sender's thread: it touches nothing of the handler's.
+  std::function<void(ReplyContent&, const ControllerStatus&)> settle;
 };
 
 using DeferredReply = std::function<void(const ReplyContent&)>;
@@ -90,6 +95,9 @@ class RequestHandler {
   // Who may clear the latched emergency stop, and how; what forbids stiffening the joints and its remedy.
   std::string EmergencyStopText(const ControllerStatus& status) const;
   std::string HazardText(const ControllerStatus& status) const;
+  // ReplyContent::settle for `client_id`'s `call`: a call the tick may refuse is answered with the
+  // refusal the handler gives when it sees the cause first; a damp says who may clear the stop.
+  std::function<void(ReplyContent&, const ControllerStatus&)> Settle(Call call, const std::string& client_id) const;
   ReplyContent ClearStop(const std::string& client_id);
   // The request's ticket, or 0 if the queue is full.
   uint64_t Submit(ControlRequest request, const std::string& client_id, uint64_t request_id);

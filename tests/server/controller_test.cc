@@ -109,14 +109,16 @@ TEST_F(ControllerTest, DampLatchesUntilClearedAndIgnoresStandsAndSkillsMeanwhile
   ASSERT_TRUE(controller_.Submit(Request(Kind::kStand)));
   RunFor(0.5);
   EXPECT_EQ(controller_.status().mode, Mode::kDamp);
-  EXPECT_STREQ(controller_.status().stop_client.data(), "test-client");
-  ControlRequest stale = Request(Kind::kClearStop);  // for an earlier press: ignored
-  stale.pressed_at = controller_.status().stop_time - 0.02;
-  ASSERT_TRUE(controller_.Submit(stale));
+  EXPECT_STREQ(controller_.status().stop.client.data(), "test-client");
+  ControlRequest other = Request(Kind::kClearStop);  // not the presser's, within the hold time: refused
+  SetText(other.client_id, "other-client");
+  const uint64_t refused = controller_.Submit(other);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kDamp);
+  ApplyRefusal refusal;
+  EXPECT_EQ(controller_.OutcomeOf(refused, &refusal), Controller::Outcome::kRefused);
+  EXPECT_EQ(refusal.latched & kFaultStop, kFaultStop);
   ControlRequest clear = Request(Kind::kClearStop);
-  clear.pressed_at = controller_.status().stop_time;
   ASSERT_TRUE(controller_.Submit(clear));
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kIdle);
@@ -255,6 +257,57 @@ TEST_F(ControllerTest, TheControlTickAllocatesNothing) {
             }),
             0);
   EXPECT_EQ(controller_.status().mode, Mode::kStand);
+}
+
+// What the request side accepted but a tick refuses is recorded under its ticket, for the reply
+// waiting for it, and two presses in one tick are both kept; the tick allocates nothing for either.
+TEST_F(ControllerTest, ATickRecordsWhatItRefusesAndBothPressesWithoutAllocating) {
+  mjData& d = backend_.env().data();
+  const int q = backend_.env().index().root_qpos;
+  d.qpos[q + 3] = std::cos(0.8);  // rolled 1.6 rad, idle
+  d.qpos[q + 4] = std::sin(0.8);
+  backend_.env().SyncState();
+  controller_.Tick();
+  const uint64_t stand = controller_.Submit(Request(Kind::kStand));
+  ControlRequest a = Request(Kind::kDamp), b = Request(Kind::kDamp);
+  SetText(a.client_id, "a");
+  SetText(b.client_id, "b");
+  const uint64_t damp = controller_.SubmitUrgent(a);
+  controller_.SubmitUrgent(b);
+  EXPECT_EQ(testutil::CountMallocs([&] { controller_.Tick(); }), 0);
+  ApplyRefusal refusal;
+  ASSERT_EQ(controller_.OutcomeOf(stand, &refusal), Controller::Outcome::kRefused);
+  EXPECT_NE(refusal.hazards & kFaultTilt, 0u);
+  EXPECT_THAT(refusal.reason.data(), HasSubstr("tilt"));
+  EXPECT_EQ(controller_.OutcomeOf(damp), Controller::Outcome::kApplied);
+  const StopPresses stop = controller_.status().stop;
+  EXPECT_STREQ(stop.client.data(), "b");
+  EXPECT_STREQ(stop.other_client.data(), "a");
+  // Neither may clear it at once: the other pressed too. Any client may after the hold time.
+  const double hold = config_.safety.stop_hold_time;
+  EXPECT_EQ(stop.ClearableAt("a", hold), stop.time + hold);
+  EXPECT_EQ(stop.ClearableAt("b", hold), stop.other_time + hold);
+  ControlRequest clear = Request(Kind::kClearStop);
+  SetText(clear.client_id, "b");
+  const uint64_t early = controller_.Submit(clear);
+  const uint64_t reset = controller_.Submit(Request(Kind::kReset));
+  controller_.Tick();
+  EXPECT_EQ(controller_.OutcomeOf(early), Controller::Outcome::kRefused);
+  ASSERT_EQ(controller_.OutcomeOf(reset, &refusal), Controller::Outcome::kRefused);
+  EXPECT_EQ(refusal.latched & kFaultStop, kFaultStop);
+  RunFor(hold);
+  const uint64_t late = controller_.Submit(clear);
+  controller_.Tick();
+  EXPECT_EQ(controller_.OutcomeOf(late), Controller::Outcome::kApplied);
+  EXPECT_EQ(controller_.status().mode, Mode::kIdle);
+  // Once 64 later refusals have come, what became of a request is no longer known.
+  controller_.SubmitUrgent(a);  // stands are refused while it is latched
+  for (int tick = 0; tick < 5; ++tick) {
+    while (controller_.Submit(Request(Kind::kStand))) {
+    }
+    controller_.Tick();
+  }
+  EXPECT_EQ(controller_.OutcomeOf(stand), Controller::Outcome::kUnknown);
 }
 
 // The selector runs the skills each tick: the published skill is the selector's choice, and the

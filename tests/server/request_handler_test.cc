@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <condition_variable>
@@ -53,6 +54,20 @@ class RequestHandlerTest : public testutil::ControllerFixture {
     r.msg.skill = skill;
     r.msg.duration = duration;
     return handler_.Handle(r.msg, now, kWallNow).value_or(ReplyContent{});
+  }
+
+  // The reply as DdsService sends it, once a tick has applied its request.
+  ReplyContent Settled(ReplyContent reply) const {
+    EXPECT_GE(controller_.status().applied, reply.ticket);
+    if (reply.settle) reply.settle(reply, controller_.status());
+    return reply;
+  }
+  // Rolls the robot 1.6 rad onto its side.
+  void TipOver() {
+    mjData& d = backend_.env().data();
+    d.qpos[backend_.env().index().root_qpos + 3] = std::cos(0.8);
+    d.qpos[backend_.env().index().root_qpos + 4] = std::sin(0.8);
+    backend_.env().SyncState();
   }
 
   static constexpr int64_t kWallNow = 1'000'000'000'000;
@@ -528,6 +543,76 @@ TEST_F(RequestHandlerTest, AnEmergencyStopLatchesUntilItsPresserOrTheHoldTimeCle
   EXPECT_EQ(Send("a", "clear_stop", 0.6).status, ReplyStatus::kOk);
   controller_.Tick();
   EXPECT_EQ(controller_.status().mode, Mode::kIdle);
+}
+
+// Presses that reach the same tick are kept as two: neither presser may undo the other's press at
+// once, each damp reply says so, and after the hold time anyone may clear the stop.
+TEST_F(RequestHandlerTest, TwoPressesInOneTickAreBothKept) {
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  const ReplyContent by_b = Send("b", "damp", 0.1);
+  const ReplyContent by_a = Send("a", "damp", 0.1);
+  controller_.Tick();
+  ASSERT_EQ(controller_.status().mode, Mode::kDamp);
+  ASSERT_GE(controller_.status().applied, std::max(by_a.ticket, by_b.ticket));
+  for (const ReplyContent& reply : {Settled(by_a), Settled(by_b)}) {
+    EXPECT_EQ(reply.status, ReplyStatus::kOk);
+    EXPECT_THAT(reply.message, HasSubstr("emergency stops from a and from b are latched"));
+  }
+  const ReplyContent early_a = Send("a", "clear_stop", 0.2);
+  EXPECT_EQ(early_a.status, ReplyStatus::kSafetyStop);
+  EXPECT_THAT(early_a.message, HasSubstr("a may 10.00 s after b's press"));
+  EXPECT_EQ(Send("b", "clear_stop", 0.3).status, ReplyStatus::kSafetyStop);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
+  RunFor(config_.safety.stop_hold_time);
+  EXPECT_EQ(Send("c", "clear_stop", 0.4).status, ReplyStatus::kOk);
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, Mode::kIdle);
+}
+
+// The holder cannot take over a bystander's stop by pressing it too, then clear it as its own.
+TEST_F(RequestHandlerTest, AHolderCannotUndoABystandersStopByPressingItToo) {
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  ASSERT_EQ(Send("b", "damp", 0.1).status, ReplyStatus::kOk);
+  controller_.Tick();
+  ASSERT_EQ(Send("a", "damp", 0.2).status, ReplyStatus::kOk);
+  controller_.Tick();
+  const ReplyContent cleared = Send("a", "clear_stop", 0.3);
+  EXPECT_EQ(cleared.status, ReplyStatus::kSafetyStop);
+  EXPECT_THAT(cleared.message, HasSubstr("emergency stops from a and from b are latched"));
+  controller_.Tick();
+  EXPECT_EQ(controller_.status().mode, Mode::kDamp);
+  // Nor may the bystander at once: the holder's press is a stop too, and it came later.
+  EXPECT_EQ(Send("b", "clear_stop", 0.4).status, ReplyStatus::kSafetyStop);
+}
+
+// A stand the handler accepts but the next tick refuses, because the robot went down in between,
+// is answered as the handler would have answered had it seen the hazard first; so is a skill.
+TEST_F(RequestHandlerTest, ACallTheTickRefusesIsAnsweredWithTheReason) {
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  const ReplyContent stand = Send("a", "stand", 0.1);
+  ASSERT_EQ(stand.status, ReplyStatus::kOk);  // the robot lay idle, upright
+  TipOver();
+  controller_.Tick();
+  ASSERT_GE(controller_.status().applied, stand.ticket);
+  EXPECT_EQ(controller_.status().mode, Mode::kIdle);
+  const ReplyContent sent = Settled(stand);
+  EXPECT_EQ(sent.status, ReplyStatus::kSafetyStop);
+  EXPECT_THAT(sent.message, HasSubstr("cannot stand: tilt"));
+  EXPECT_THAT(sent.message, HasSubstr("call reset"));
+  EXPECT_EQ(Send("a", "stand", 0.2).message, sent.message);  // as a stand asked for now is refused
+
+  ASSERT_EQ(Send("a", "reset", 0.3).status, ReplyStatus::kOk);
+  RunFor(3.0);
+  ASSERT_EQ(controller_.status().mode, Mode::kStand);
+  const ReplyContent skill = Skill("a", 0, 1.0, 0.4);
+  ASSERT_EQ(skill.status, ReplyStatus::kOk);
+  TipOver();
+  controller_.Tick();
+  const ReplyContent skill_sent = Settled(skill);
+  EXPECT_EQ(skill_sent.status, ReplyStatus::kSafetyStop);
+  EXPECT_THAT(skill_sent.message, HasSubstr("tilt"));
+  EXPECT_EQ(controller_.status().task.state, TaskState::kSafetyStop);  // the state topic says so too
 }
 
 TEST_F(RequestHandlerTest, ReleasingControlStopsOnlyTheReleasersTask) {

@@ -35,6 +35,14 @@ class ControllerTest : public testutil::ControllerFixture {
     r.navigate = navigate;
     return r;
   }
+  // The idle robot rolled 1.6 rad about x: a hazard that forbids stiffening it.
+  void RollOntoItsSide() {
+    mjData& d = backend_.env().data();
+    const int q = backend_.env().index().root_qpos;
+    d.qpos[q + 3] = std::cos(0.8);
+    d.qpos[q + 4] = std::sin(0.8);
+    backend_.env().SyncState();
+  }
 };
 
 double MaxJointError(const RobotState& s) {
@@ -140,11 +148,7 @@ TEST_F(ControllerTest, ASkillThatRacesADampEndsAsASafetyStopInsteadOfVanishing) 
 }
 
 TEST_F(ControllerTest, ASkillIsNotStartedOnARobotLyingOnItsSide) {
-  mjData& d = backend_.env().data();
-  const int q = backend_.env().index().root_qpos;
-  d.qpos[q + 3] = std::cos(0.8);  // rolled 1.6 rad, idle
-  d.qpos[q + 4] = std::sin(0.8);
-  backend_.env().SyncState();
+  RollOntoItsSide();
   controller_.Tick();
   ASSERT_TRUE(controller_.Submit(Request(Kind::kSkill, 0, 2.0)));
   controller_.Tick();
@@ -262,11 +266,7 @@ TEST_F(ControllerTest, TheControlTickAllocatesNothing) {
 // What the request side accepted but a tick refuses is recorded under its ticket, for the reply
 // waiting for it, and two presses in one tick are both kept; the tick allocates nothing for either.
 TEST_F(ControllerTest, ATickRecordsWhatItRefusesAndBothPressesWithoutAllocating) {
-  mjData& d = backend_.env().data();
-  const int q = backend_.env().index().root_qpos;
-  d.qpos[q + 3] = std::cos(0.8);  // rolled 1.6 rad, idle
-  d.qpos[q + 4] = std::sin(0.8);
-  backend_.env().SyncState();
+  RollOntoItsSide();
   controller_.Tick();
   const uint64_t stand = controller_.Submit(Request(Kind::kStand));
   ControlRequest a = Request(Kind::kDamp), b = Request(Kind::kDamp);

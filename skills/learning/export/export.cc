@@ -178,7 +178,10 @@ nlohmann::json ExportSelector(const std::string& run_dir, const std::string& pat
   TrackingEvaluation tracking;
   try {
     const SkillLibrary library = SkillLibrary::Load(unevaluated);
-    tracking = EvaluateTracking(library, config.env, EvaluationTrackingCases(library), 10.0, 2.0, kTrackingEnvSeed);
+    // On the fixed set as `flsd track` runs it: the skills' own training env, whose terminations
+    // say what a fall is (the selector's run may loosen them to train).
+    tracking = EvaluateTracking(library, TrainingEnvOf(library), EvaluationTrackingCases(library), 10.0, 2.0,
+                                kTrackingEnvSeed);
   } catch (...) {
     fs::remove(unevaluated);
     throw;
@@ -221,17 +224,18 @@ class ScratchController final : public TrackingController {
 struct CurvePoint {
   int iteration = 0;
   long env_steps = 0;
-  TrackingEvaluation tracking;
+  nlohmann::json tracking;  // TrackingJson
 };
 
-// A selector run's checkpoint, exported to `library` and tracked through it.
+// A selector run's checkpoint, exported to `library` and tracked through it: on its own library's
+// evaluation set the export's evaluation, on `cases` another.
 CurvePoint SelectorPoint(const std::string& run_dir, int iteration, const std::string& library,
                          const std::vector<TrackingCase>* cases) {
   const nlohmann::json exported = ExportSelector(run_dir, library, iteration);
+  if (cases == nullptr) return {exported["iteration"], exported["env_steps"], exported["tracking"]};
   const SkillLibrary served = SkillLibrary::Load(library);
-  const std::vector<TrackingCase> own = cases ? std::vector<TrackingCase>() : EvaluationTrackingCases(served);
   return {exported["iteration"], exported["env_steps"],
-          EvaluateTracking(served, TrainingEnvOf(served), cases ? *cases : own, 10.0, 2.0, kTrackingEnvSeed)};
+          TrackingJson(EvaluateTracking(served, TrainingEnvOf(served), *cases, 10.0, 2.0, kTrackingEnvSeed))};
 }
 
 // A scratch run's checkpoint, on the simulated A1 it trained on without randomisation.
@@ -240,7 +244,8 @@ CurvePoint ScratchPoint(const VelocityTrainConfig& config, const std::string& ru
   TrainedPolicy trained = LoadTrainedScratch(config, RunCheckpoint(run_dir, iteration));
   CurvePoint point{trained.iteration, trained.env_steps, {}};
   ScratchController controller(std::move(trained));
-  point.tracking = EvaluateController(controller, ServedEnvConfig(config.env, 0), cases, 10.0, 2.0, kTrackingEnvSeed);
+  point.tracking =
+      TrackingJson(EvaluateController(controller, ServedEnvConfig(config.env, 0), cases, 10.0, 2.0, kTrackingEnvSeed));
   return point;
 }
 
@@ -265,10 +270,10 @@ nlohmann::json SelectorCurve(const std::string& run_dir, const std::string& case
     if (iteration == 0 && !rows.empty() && rows.back()["iteration"] == p.iteration) continue;
     rows.push_back({{"iteration", p.iteration},
                     {"env_steps", p.env_steps},
-                    {"rms_lin_error", p.tracking.rms_lin_error},
-                    {"rms_ang_error", p.tracking.rms_ang_error},
-                    {"falls", p.tracking.falls},
-                    {"switches_per_s", p.tracking.switches_per_s}});
+                    {"rms_lin_error", p.tracking["rms_lin_error"]},
+                    {"rms_ang_error", p.tracking["rms_ang_error"]},
+                    {"falls", p.tracking["falls"]},
+                    {"switches_per_s", p.tracking["switches_per_s"]}});
   }
   fs::remove(library);
   const nlohmann::json out = {

@@ -51,10 +51,12 @@ TEST(VelocityProgress, EachRowFillsTheHeader) {
   runner.iteration = 3;
   VelocityTrackingStats task;
   task.zero_reward_share = 0.25;
+  runner.ppo.prior_kl = 0.125;
   const ProgressRecord record = VelocityProgress(runner, task, 0.5);
   EXPECT_EQ(record.header().rfind("iteration,env_steps,steps_per_s,mean_reward,", 0), 0u);
+  EXPECT_EQ(record.header().substr(record.header().rfind(",zero_reward_share")), ",zero_reward_share,prior_kl");
   EXPECT_EQ(Columns(record.row()), Columns(record.header()));
-  EXPECT_EQ(record.row().substr(record.row().rfind(',')), ",0.2500");
+  EXPECT_EQ(record.row().substr(record.row().rfind(",0.2500,")), ",0.2500,0.12500");
 }
 
 TEST(ProgressLog, AResumedRunDropsTheRowsPastItsCheckpoint) {

@@ -359,6 +359,22 @@ TEST_F(VelocityTraining, TheSelectorCurveTracksEachKeptCheckpoint) {
   EXPECT_FALSE(fs::exists(Path("curve/selector_curve.safetensors.tmp")));
 }
 
+// The export's evaluation is the fixed set's as `flsd track` runs it, on the skills' own env, not
+// on the selector run's: here the run's env would call every step a fall (a base below 0.9 m).
+TEST_F(VelocityTraining, TheExportIsEvaluatedOnTheFixedSetsEnvNotTheRunsOwn) {
+  config_.env.termination.limits.min_base_height = 0.9;
+  ASSERT_EQ(Train("own_env", 1), 0);
+  const std::string out = Path("own_env.safetensors");
+  const nlohmann::json exported = ExportSelector(Path("own_env"), out);
+  const SkillLibrary library = SkillLibrary::Load(out);
+  const TrackingEvaluation fixed = EvaluateTracking(library, TrainingEnvOf(library), EvaluationTrackingCases(library),
+                                                    10.0, 2.0, kTrackingEnvSeed, SelectorKind::kLearned);
+  EXPECT_LT(fixed.falls, static_cast<int>(EvaluationTrackingCases(library).size()));
+  EXPECT_EQ(exported["tracking"]["falls"].get<int>(), fixed.falls);
+  EXPECT_DOUBLE_EQ(exported["tracking"]["rms_lin_error"].get<double>(), fixed.rms_lin_error);
+  EXPECT_DOUBLE_EQ(exported["tracking"]["rms_ang_error"].get<double>(), fixed.rms_ang_error);
+}
+
 TEST_F(VelocityTraining, ASelectorWithANearestSkillPriorIsServedWithTheSamePrior) {
   config_.nearest_prior_temperature = 0.05;
   config_.mirror = true;

@@ -92,8 +92,13 @@ int StartEmulator(std::unique_ptr<ChildProcess>& emulator, const fs::path& log) 
 }
 
 // skilld's config: the demo map for navigate without one, and the robot or the security asked for.
+// Other clients may clear a stop 0.1 s after its press (the shipped hold is 10 s): with clients
+// pressing several times a second, a 10-s hold kept the stop latched for the whole run, and no damp
+// found a robot to stop (3 damp latencies in an hour). 0.1 s is 5 ticks, so a press always shows in
+// the state topic before another client's clear can undo it.
 std::string SoakServerConfig(const SoakBenchOptions& o, int emulator_port, const fs::path& pki) {
-  std::string yaml = "navigation:\n  map: " + ResolveDataPath("configs/maps/demo.yaml") + "\n";
+  std::string yaml = "navigation:\n  map: " + ResolveDataPath("configs/maps/demo.yaml") + "\n" +
+                     "safety:\n  stop_hold_time: 0.1\n";
   if (o.backend == "hw") {
     yaml += "hw:\n  local_host: 127.0.0.1\n  local_port: 0\n  robot_host: 127.0.0.1\n  robot_port: " +
             std::to_string(emulator_port) + "\n  preflight_seconds: 0.3\n";

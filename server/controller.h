@@ -230,9 +230,11 @@ class Controller {
   mutable std::mutex status_mutex_;
   mutable std::condition_variable status_changed_;
   ControllerStatus published_;
-  // Refusals by ticket modulo their count (they come in ticket order): a reply looks its ticket
-  // up within a tick or two of it, long before 64 later refusals could have overwritten it.
-  static constexpr int kRefusals = 64;
+  // Refusals by ticket modulo their count (they come in ticket order). A reply looks its ticket up
+  // when the state publisher next wakes, a tick or two later as a rule; 2048 tickets are 128 ticks
+  // (2.6 s) of a full queue refused every tick, so a flood does not overwrite a refusal before its
+  // reply reads it unless the publisher stalls that long (the reply then says the outcome is lost).
+  static constexpr int kRefusals = 2048;
   std::array<ApplyRefusal, kRefusals> refusals_{};
 };
 

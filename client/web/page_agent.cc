@@ -21,12 +21,20 @@ using Clock = std::chrono::steady_clock;
 // How soon the reader thread sees that it is to stop.
 constexpr std::chrono::seconds kReaderPoll{1};
 
-bool WriteAll(int fd, const std::string& text) {
+// Writes `text` to the non-blocking `fd` whole, unless the reader takes none of it for a time
+// `until`: an agent that stops reading must not hold skillweb's request threads in a write.
+bool WriteAll(int fd, const std::string& text, Clock::time_point until) {
   for (std::size_t done = 0; done < text.size();) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n > 0) {
+      done += static_cast<std::size_t>(n);
+      continue;
+    }
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    done += static_cast<std::size_t>(n);
+    if (n == 0 || errno != EAGAIN) return false;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - Clock::now());
+    pollfd ready{fd, POLLOUT, 0};
+    if (left.count() <= 0 || poll(&ready, 1, static_cast<int>(left.count())) == 0) return false;
   }
   return true;
 }
@@ -37,6 +45,8 @@ json Refused(int& status, int code, const std::string& why) {
 }
 
 json Unavailable(int& status, const std::string& why) { return Refused(status, 503, why); }
+
+constexpr const char* kGone = "this page's DDS client has exited or stopped taking requests";
 
 json OutOfProtocol(int& status, const std::string& why) {
   return Refused(status, 502, "this page's DDS client answered out of protocol: " + why);
@@ -80,6 +90,7 @@ AgentPageLink::AgentPageLink(const AgentOptions& options) : reply_timeout_(optio
   close(out[1]);
   to_agent_ = in[1];
   from_agent_ = out[0];
+  fcntl(to_agent_, F_SETFL, O_NONBLOCK);
   if (pid_ < 0) {
     Stop();
     throw std::runtime_error("page agent: cannot start " + options.program);
@@ -192,6 +203,7 @@ json AgentPageLink::Request(json request, int& status) {
   uint64_t id;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (!alive_) return Unavailable(status, kGone);
     id = ++next_request_;
     replies_[id];  // awaited from now on
   }
@@ -199,14 +211,17 @@ json AgentPageLink::Request(json request, int& status) {
   bool sent;
   {
     std::lock_guard<std::mutex> lock(write_mutex_);
-    sent = to_agent_ >= 0 && WriteAll(to_agent_, request.dump() + "\n");
+    sent = to_agent_ >= 0 && WriteAll(to_agent_, request.dump() + "\n", Clock::now() + reply_timeout_);
+    // Part of a line may be in the pipe: the agent would read it as garbage. An agent that stopped
+    // reading is ended; its reader then sees the end, and the page's streams close.
+    if (!sent && pid_ > 0) kill(pid_, SIGKILL);
   }
   std::unique_lock<std::mutex> lock(mutex_);
   const auto it = replies_.find(id);
   if (sent) arrived_.wait_for(lock, reply_timeout_, [&] { return it->second.has_value() || !alive_; });
   std::optional<std::pair<int, json>> reply = std::move(it->second);
   replies_.erase(it);  // a reply after this is late, and dropped
-  if (!sent) return Unavailable(status, "this page's DDS client has exited");
+  if (!sent) return Unavailable(status, kGone);
   if (!reply) return Unavailable(status, "no answer from this page's DDS client");
   status = reply->first;
   return std::move(reply->second);

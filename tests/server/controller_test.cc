@@ -300,14 +300,23 @@ TEST_F(ControllerTest, ATickRecordsWhatItRefusesAndBothPressesWithoutAllocating)
   controller_.Tick();
   EXPECT_EQ(controller_.OutcomeOf(late), Controller::Outcome::kApplied);
   EXPECT_EQ(controller_.status().mode, Mode::kIdle);
-  // Once 64 later refusals have come, what became of a request is no longer known.
+  // A flood of refused requests, the queue full every tick, leaves a refusal on record for seconds
+  // (a reply reads it a tick or two later); after 2048 later tickets it is no longer known.
   controller_.SubmitUrgent(a);  // stands are refused while it is latched
-  for (int tick = 0; tick < 5; ++tick) {
+  controller_.Tick();
+  const uint64_t first = controller_.Submit(Request(Kind::kStand));
+  for (int tick = 0; tick < 100; ++tick) {
     while (controller_.Submit(Request(Kind::kStand))) {
     }
     controller_.Tick();
   }
-  EXPECT_EQ(controller_.OutcomeOf(stand), Controller::Outcome::kUnknown);
+  EXPECT_EQ(controller_.OutcomeOf(first), Controller::Outcome::kRefused);  // 1600 tickets later
+  for (int tick = 0; tick < 30; ++tick) {
+    while (controller_.Submit(Request(Kind::kStand))) {
+    }
+    controller_.Tick();
+  }
+  EXPECT_EQ(controller_.OutcomeOf(first), Controller::Outcome::kUnknown);  // 2080 later
 }
 
 // The selector runs the skills each tick: the published skill is the selector's choice, and the

@@ -29,8 +29,8 @@ void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
   }
   if (config.travel.enabled()) {
     try {
-      const SkillDirections directions = ParseSkillDirections(config.travel, config.num_skills);
-      if (config.symmetry.enabled) CheckMirrorImages(directions, SkillPairingOf(config.num_skills, config.symmetry));
+      const SkillTravelTargets targets = ParseSkillTravelTargets(config.travel, config.num_skills);
+      if (config.symmetry.enabled) CheckMirrorImages(targets, SkillPairingOf(config.num_skills, config.symmetry));
     } catch (const InputError& e) {
       throw InputError(where + ": " + e.what());
     }

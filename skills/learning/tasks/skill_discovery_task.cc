@@ -60,8 +60,8 @@ SkillDiscoveryTask::SkillDiscoveryTask(const TrainConfig& config, const Communic
       pae_(kMotionObsSize, config.window, 1.0 / a1::kControlDt, config.pae),
       discriminator_(DiscriminatorInputs(method_, config), config.num_skills, config.discriminator),
       pairing_(SkillPairingOf(config.num_skills, config.symmetry)),
-      travel_directions_(config.travel.enabled() ? ParseSkillDirections(config.travel, config.num_skills)
-                                                 : SkillDirections()),
+      travel_targets_(config.travel.enabled() ? ParseSkillTravelTargets(config.travel, config.num_skills)
+                                              : SkillTravelTargets()),
       constraint_terminations_(config.constraint_terminations),
       pae_optimizer_(pae_->parameters(),
                      torch::optim::AdamWOptions(config.pae.learning_rate).weight_decay(config.pae.weight_decay)),
@@ -139,13 +139,13 @@ void SkillDiscoveryTask::TurnHeading(int i, double yaw) {
 }
 
 double SkillDiscoveryTask::TravelPay(int i) const {
-  const std::optional<Direction>& direction = travel_directions_[skill_[i]];
-  if (!direction) return 0.0;
+  const std::optional<TravelTarget>& target = travel_targets_[skill_[i]];
+  if (!target) return 0.0;
   const RobotState& s = vec_.stepped_state(i);
   const Eigen::Vector3d v = s.base_orientation * s.base_linear_velocity;  // world frame
   const double yaw0 = skill_origin_[i][2], c = std::cos(yaw0), sn = std::sin(yaw0);
   const double yaw_rate = (s.base_orientation * s.base_angular_velocity).z();
-  return TravelReward(*direction, {c * v.x() + sn * v.y(), -sn * v.x() + c * v.y(), yaw_rate}, config_.travel);
+  return TravelReward(*target, {c * v.x() + sn * v.y(), -sn * v.x() + c * v.y(), yaw_rate}, config_.travel);
 }
 
 // The critic's o^p and q, q in the current skill's frame (SkillFramePosition).

@@ -129,7 +129,7 @@ class SkillDiscoveryTask : public RolloutTask {
   PeriodicAutoencoder pae_{nullptr};
   Discriminator discriminator_{nullptr};
   mirror::SkillPairing pairing_;
-  SkillDirections travel_directions_;  // with travel.weight > 0
+  SkillTravelTargets travel_targets_;  // with travel.weight > 0
   ConstraintTerminations constraint_terminations_;
   torch::optim::AdamW pae_optimizer_;
   torch::optim::Adam discriminator_optimizer_;

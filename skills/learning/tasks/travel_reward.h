@@ -1,7 +1,7 @@
 #pragma once
 // A deviation from the paper, off unless `travel.weight` > 0: each skill may be given one of the
-// library bar's six directions (evaluation/library_bar.h) and is then paid, beside the
-// discriminator's reward, for travelling that way in its own frame. The mutual-information reward
+// library bar's six directions (evaluation/library_bar.h), or told to stand still, and is then
+// paid, beside the discriminator's reward, for travelling that way in its own frame. The mutual-information reward
 // alone is met by any set of distinguishable behaviours, and every seed trained on it so far found
 // one longitudinal gait varied by speed and turn rate; this names the directions a library needs
 // and leaves how each skill moves, and the skills without a direction, to the discriminator.
@@ -26,7 +26,7 @@ struct TravelConfig {
   double speed = 0.5;        // m/s along the direction (turns: speed / turn_scale rad/s)
   double turn_scale = 0.4;   // m/rad: a turn of 1 rad/s counts as 0.4 m/s, as the bar's 1.0 rad/s to its 0.4 m/s
   double tolerance = 0.5;    // m/s: legged_gym's tracking_sigma 0.25 is this squared
-  // One entry per skill: a direction's name (library_bar.h's kDirectionNames) or "none".
+  // One entry per skill: a direction's name (library_bar.h's kDirectionNames), "still" or "none".
   std::vector<std::string> directions;
 
   bool enabled() const { return weight > 0.0; }
@@ -40,22 +40,36 @@ struct TravelConfig {
   }
 };
 
+// What a skill is paid for: going one of the bar's directions, or standing still. A library
+// needs a still skill as much as the directions: skilld brakes a walk with it before the stand's
+// targets take the legs (a stand that catches a walk mid-stride can throw the robot).
+struct TravelTarget {
+  bool still = false;
+  Direction direction = Direction::kForward;  // unless still
+
+  static TravelTarget Still() { return {true, Direction::kForward}; }
+  static TravelTarget Going(Direction d) { return {false, d}; }
+  bool operator==(const TravelTarget& o) const { return still == o.still && (still || direction == o.direction); }
+  bool operator!=(const TravelTarget& o) const { return !(*this == o); }
+};
+
 // The direction a skill's mirror image goes: left and right swap, as do the turns.
 Direction MirrorImage(Direction direction);
+TravelTarget MirrorImage(const TravelTarget& target);
 
-using SkillDirections = std::vector<std::optional<Direction>>;  // per skill; nullopt: "none"
+using SkillTravelTargets = std::vector<std::optional<TravelTarget>>;  // per skill; nullopt: "none"
 
-// Each skill's direction. Throws InputError naming the entry unless there is one per skill, each
-// a direction's name or "none".
-SkillDirections ParseSkillDirections(const TravelConfig& config, int num_skills);
+// Each skill's target. Throws InputError naming the entry unless there is one per skill, each a
+// direction's name, "still" or "none".
+SkillTravelTargets ParseSkillTravelTargets(const TravelConfig& config, int num_skills);
 // Under mirror symmetry, skill k's mirror image is a sample of its pair's: throws InputError naming
-// the entry unless every pair goes mirror-image ways (a self-paired skill forward, backward or
-// nowhere), so that a sample and its mirror image earn the same.
-void CheckMirrorImages(const SkillDirections& directions, const mirror::SkillPairing& pairing);
+// the entry unless every pair goes mirror-image ways (a self-paired skill forward, backward, still
+// or nowhere), so that a sample and its mirror image earn the same.
+void CheckMirrorImages(const SkillTravelTargets& targets, const mirror::SkillPairing& pairing);
 
-// The pay for one step of a skill going `direction`, given its velocity in the skill's own frame
+// The pay for one step of a skill with `target`, given its velocity in the skill's own frame
 // (x forward and y left as the robot faced when the skill began, m/s; yaw rate, rad/s).
-double TravelReward(Direction direction, const std::array<double, 3>& skill_frame_velocity,
+double TravelReward(const TravelTarget& target, const std::array<double, 3>& skill_frame_velocity,
                     const TravelConfig& config);
 
 }  // namespace flsd

@@ -1,5 +1,6 @@
 // skillweb's side of a page agent, against scripts that speak its protocol badly: one that stalls
-// within its first line, one whose replies have the wrong shape, and one that answers late.
+// within its first line, one whose replies have the wrong shape, one that answers late and one
+// that stops reading.
 
 #include "client/web/page_agent.h"
 
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "tests/common/test_support.h"
 
@@ -91,6 +93,21 @@ TEST(AgentPageLinkTest, AnAnswerAfterItsRequestGaveUpIsDropped) {
   EXPECT_EQ(status, 200);
   EXPECT_EQ(second["audit"], "second");
   EXPECT_NE(log.find("page agent fake-agent: dropped the late answer to request 1"), std::string::npos) << log;
+}
+
+TEST(AgentPageLinkTest, AnAgentThatStopsReadingIsEndedInsteadOfHoldingTheWriter) {
+  const FakeAgent agent("echo 'I fake-agent'\nexec sleep 30\n");
+  AgentPageLink link(agent.Options());
+  int status = 0;
+  const auto sent = Clock::now();
+  // More than a pipe holds (64 KiB): the write waits for a reader that never comes.
+  const nlohmann::json reply = link.Command("stand", std::string(1 << 20, 'x'), status);
+  EXPECT_LT(Clock::now() - sent, std::chrono::seconds(3));
+  EXPECT_EQ(status, 503);
+  EXPECT_EQ(reply["message"], "this page's DDS client has exited or stopped taking requests");
+  for (int i = 0; i < 100 && link.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_FALSE(link.alive());  // the page's streams end
+  EXPECT_EQ(link.Command("stand", "", status)["message"], "this page's DDS client has exited or stopped taking requests");
 }
 
 }  // namespace

@@ -309,6 +309,13 @@ void Controller::EnterStand() {
   stand_.MoveTo(robot_, a1::kDefaultJointPos);
 }
 
+bool Controller::has_brake_skill() const {
+  if (!still_skills_) return false;
+  const double zero[3] = {0.0, 0.0, 0.0};
+  return NearestSkillSelector::Distance(still_skills_->velocities()[still_skills_->NearestCandidate(zero)],
+                                        Eigen::Vector3d::Zero()) <= kStillSpeed;
+}
+
 int Controller::BrakeSkill(int from) const {
   if (!still_skills_) return -1;
   const double zero[3] = {0.0, 0.0, 0.0};

@@ -131,6 +131,10 @@ class Controller {
   bool WaitForTickAfter(uint64_t tick, std::chrono::nanoseconds timeout, ControllerStatus& out) const;
 
   const SkillLibrary& library() const { return library_; }
+  // Whether the library has a dependable skill within kStillSpeed of still to brake a motion with.
+  // Without one a motion's end goes to the stand's targets at once, which can throw a walking robot.
+  bool has_brake_skill() const;
+  static constexpr double kStillSpeed = 0.1;  // m/s (NearestSkillSelector::Distance from zero)
   // The selector of track_velocity, or of navigate, or nullptr when the server has none for it
   // (the call is then unavailable).
   const HierarchicalPolicy* selector(bool navigation = false) const;
@@ -167,7 +171,6 @@ class Controller {
   // The dependable skill nearest standing still that the library records no fall for on a switch
   // from `from`; -1 if none is within kStillSpeed of still.
   int BrakeSkill(int from) const;
-  static constexpr double kStillSpeed = 0.1;  // m/s (NearestSkillSelector::Distance from zero)
   // What keeps a motion from starting now: the backend's fault and the state's hazards.
   uint32_t Hazards() const;
   // Once the stand has settled (or a recovery has lain down): starts what waits for it if the

@@ -95,6 +95,11 @@ int main(int argc, char** argv) {
     flsd::DdsService service(config, controller, loop, backend->name());
     loop.Start();
     service.Start();
+    if (!controller.has_brake_skill()) {
+      spdlog::warn("library {} has no dependable skill within {} m/s of standing still: a motion ends in the stand "
+                   "unbraked, which can throw a walking robot",
+                   library.path(), flsd::Controller::kStillSpeed);
+    }
     if (config.control_priority > 0 && !loop.realtime()) {
       spdlog::warn("control loop runs without SCHED_FIFO (needs CAP_SYS_NICE): expect more jitter");
     }

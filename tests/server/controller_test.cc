@@ -455,6 +455,31 @@ class RecordingBackend : public Backend {
   JointCommand last;
 };
 
+// skilld warns at start when a library cannot brake: here the shipped one with its still skills
+// recorded as fallers.
+TEST(ControllerBrake, ALibraryWhoseStillSkillsFellHasNoBrake) {
+  SafeTensors file = ReadSafeTensors(ResolveDataPath("models/a1_flsd.safetensors"));
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  int still = 0;
+  for (nlohmann::json& skill : meta["skills"]) {
+    const auto& v = skill["mean_linear_velocity"];
+    const Eigen::Vector3d velocity(v[0], v[1], skill["mean_angular_velocity"][2]);
+    if (NearestSkillSelector::Distance(velocity, Eigen::Vector3d::Zero()) > Controller::kStillSpeed) continue;
+    skill["fell"] = true;
+    ++still;
+  }
+  ASSERT_GT(still, 0);
+  file.metadata["flsd"] = meta.dump();
+  const std::string path = testutil::UniqueTempPath("no_brake.safetensors");
+  WriteSafeTensors(path, file);
+  const SkillLibrary library = SkillLibrary::Load(path);
+  std::remove(path.c_str());
+  SimBackend backend{SimBackendConfig{}};
+  EXPECT_FALSE(Controller(backend, library, ServerConfig{}).has_brake_skill());
+  EXPECT_TRUE(Controller(backend, SkillLibrary::Load(ResolveDataPath("models/a1_flsd.safetensors")), ServerConfig{})
+                  .has_brake_skill());
+}
+
 TEST(ControllerTargetFilter, ASkillRunsBehindTheLibrarysFilterFromThePoseItStartsIn) {
   // The shipped library, its metadata saying its skills were trained behind a 4 Hz filter.
   SafeTensors file = ReadSafeTensors(ResolveDataPath("models/a1_flsd.safetensors"));

@@ -123,7 +123,7 @@ int RunTraining(const TrainingRunOptions& options, const std::atomic<bool>& stop
           ? fmt::format("new {} run in {}", config.method, options.run_dir)
           : fmt::format("new {} run in {}: {} skills, {} envs x {} steps per iteration, {} iterations", config.method,
                         options.run_dir, config.num_skills, config.num_envs, config.steps_per_env, config.iterations);
-  LearnSchedule schedule{config.iterations, config.checkpoint_every, config.keep_checkpoint_every};
+  LearnSchedule schedule{config.iterations, config.checkpoint_every, config.keep_checkpoint_every, {}};
   if (config.keep_best) {
     // A judgement that fails (a damaged best.json, say) is reported and the training goes on.
     schedule.after_keep = [&](int iteration) {
@@ -180,7 +180,7 @@ int RunVelocityTraining(const VelocityRunOptions& options, const std::atomic<boo
       task.library() ? " over " + config.library : std::string(), options.run_dir, config.num_envs,
       config.steps_per_env, config.iterations);
   return Train(task, VelocityPpoConfig(config), config.seed, comm, folder, options.resume, "", new_run,
-               {config.iterations, config.checkpoint_every, config.keep_checkpoint_every}, stop_requested);
+               {config.iterations, config.checkpoint_every, config.keep_checkpoint_every, {}}, stop_requested);
 }
 
 }  // namespace flsd

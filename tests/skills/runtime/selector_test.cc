@@ -8,6 +8,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <vector>
 
 #include "robot/observation.h"
@@ -74,6 +75,7 @@ TEST(SelectorPrior, MasksWhatSkilldMasksAndFavoursTheTimeSharingChoice) {
   const std::string path = testutil::WriteLibraryWithFallingSwitches(
       {{0, 0, 0}, {0.4, 0, 0}, {0.7, 0, 0}, {0.5, 0, 0}}, {{1, 2}});
   SkillLibrary library = SkillLibrary::Load(path);
+  std::remove(path.c_str());
   const_cast<SkillDescriptor&>(library.skills()[3]).randomized_fell = true;
   EXPECT_FALSE(Dependable(library.skills()[3]));
   const double forward[3] = {0.5, 0.0, 0.0};
@@ -107,7 +109,9 @@ TEST(SelectorPrior, MasksWhatSkilldMasksAndFavoursTheTimeSharingChoice) {
 }
 
 TEST(MakeSelector, BuildsEachKindWithItsHoldAndRefusesALearnedOneALibraryLacks) {
-  const SkillLibrary library = SkillLibrary::Load(testutil::WriteLibrary({{0, 0, 0}, {0.5, 0, 0}}, {}));
+  const std::string path = testutil::WriteLibrary({{0, 0, 0}, {0.5, 0, 0}}, {});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  std::remove(path.c_str());
   EXPECT_THAT(testutil::InputErrorMessage([&] { MakeSelector(library, SelectorKind::kLearned); }),
               HasSubstr("has no skill selector"));
   EXPECT_EQ(MakeSelector(library, SelectorKind::kNearestSkill)->hold_steps(), 25);

@@ -311,9 +311,10 @@ void Controller::EnterStand() {
 
 bool Controller::has_brake_skill() const {
   if (!still_skills_) return false;
-  const double zero[3] = {0.0, 0.0, 0.0};
-  return NearestSkillSelector::Distance(still_skills_->velocities()[still_skills_->NearestCandidate(zero)],
-                                        Eigen::Vector3d::Zero()) <= kStillSpeed;
+  for (const Eigen::Vector3d& velocity : still_skills_->velocities()) {
+    if (NearestSkillSelector::Distance(velocity, Eigen::Vector3d::Zero()) <= kStillSpeed) return true;
+  }
+  return false;
 }
 
 int Controller::BrakeSkill(int from) const {

@@ -235,8 +235,9 @@ class Controller {
   ControllerStatus published_;
   // Refusals by ticket modulo their count (they come in ticket order). A reply looks its ticket up
   // when the state publisher next wakes, a tick or two later as a rule; 2048 tickets are 128 ticks
-  // (2.6 s) of a full queue refused every tick, so a flood does not overwrite a refusal before its
-  // reply reads it unless the publisher stalls that long (the reply then says the outcome is lost).
+  // (2.6 s) of a full queue refused every tick (fewer if urgent calls, which take tickets too, flood
+  // beside it), so a refusal outlives any but a long stall of the publisher (the reply then says
+  // the outcome is lost).
   static constexpr int kRefusals = 2048;
   std::array<ApplyRefusal, kRefusals> refusals_{};
 };

@@ -21,8 +21,8 @@ using Clock = std::chrono::steady_clock;
 // How soon the reader thread sees that it is to stop.
 constexpr std::chrono::seconds kReaderPoll{1};
 
-// Writes `text` to the non-blocking `fd` whole, unless the reader takes none of it for a time
-// `until`: an agent that stops reading must not hold skillweb's request threads in a write.
+// Writes `text` to the non-blocking `fd` whole, unless that is not done by `until`: an agent that
+// stops reading must not hold skillweb's request threads in a write.
 bool WriteAll(int fd, const std::string& text, Clock::time_point until) {
   for (std::size_t done = 0; done < text.size();) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
@@ -32,9 +32,11 @@ bool WriteAll(int fd, const std::string& text, Clock::time_point until) {
     }
     if (n < 0 && errno == EINTR) continue;
     if (n == 0 || errno != EAGAIN) return false;
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - Clock::now());
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(until - Clock::now());
     pollfd ready{fd, POLLOUT, 0};
-    if (left.count() <= 0 || poll(&ready, 1, static_cast<int>(left.count())) == 0) return false;
+    if (left.count() <= 0) return false;
+    const int polled = poll(&ready, 1, static_cast<int>(left.count()));
+    if (polled == 0 || (polled < 0 && errno != EINTR)) return false;
   }
   return true;
 }
@@ -200,6 +202,7 @@ void AgentPageLink::TakeReply(const std::string& text) {
 }
 
 json AgentPageLink::Request(json request, int& status) {
+  const Clock::time_point deadline = Clock::now() + reply_timeout_;  // for the write and the answer
   uint64_t id;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -211,14 +214,14 @@ json AgentPageLink::Request(json request, int& status) {
   bool sent;
   {
     std::lock_guard<std::mutex> lock(write_mutex_);
-    sent = to_agent_ >= 0 && WriteAll(to_agent_, request.dump() + "\n", Clock::now() + reply_timeout_);
+    sent = to_agent_ >= 0 && WriteAll(to_agent_, request.dump() + "\n", deadline);
     // Part of a line may be in the pipe: the agent would read it as garbage. An agent that stopped
     // reading is ended; its reader then sees the end, and the page's streams close.
     if (!sent && pid_ > 0) kill(pid_, SIGKILL);
   }
   std::unique_lock<std::mutex> lock(mutex_);
   const auto it = replies_.find(id);
-  if (sent) arrived_.wait_for(lock, reply_timeout_, [&] { return it->second.has_value() || !alive_; });
+  if (sent) arrived_.wait_until(lock, deadline, [&] { return it->second.has_value() || !alive_; });
   std::optional<std::pair<int, json>> reply = std::move(it->second);
   replies_.erase(it);  // a reply after this is late, and dropped
   if (!sent) return Unavailable(status, kGone);

@@ -310,13 +310,13 @@ TEST_F(ControllerTest, ATickRecordsWhatItRefusesAndBothPressesWithoutAllocating)
     }
     controller_.Tick();
   }
-  EXPECT_EQ(controller_.OutcomeOf(first), Controller::Outcome::kRefused);  // 1600 tickets later
+  EXPECT_EQ(controller_.OutcomeOf(first), Controller::Outcome::kRefused);  // 1599 tickets later
   for (int tick = 0; tick < 30; ++tick) {
     while (controller_.Submit(Request(Kind::kStand))) {
     }
     controller_.Tick();
   }
-  EXPECT_EQ(controller_.OutcomeOf(first), Controller::Outcome::kUnknown);  // 2080 later
+  EXPECT_EQ(controller_.OutcomeOf(first), Controller::Outcome::kUnknown);  // 2079 later
 }
 
 // The selector runs the skills each tick: the published skill is the selector's choice, and the

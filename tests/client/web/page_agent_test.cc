@@ -106,7 +106,7 @@ TEST(AgentPageLinkTest, AnAgentThatStopsReadingIsEndedInsteadOfHoldingTheWriter)
   EXPECT_EQ(status, 503);
   EXPECT_EQ(reply["message"], "this page's DDS client has exited or stopped taking requests");
   for (int i = 0; i < 100 && link.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  EXPECT_FALSE(link.alive());  // the page's streams end
+  ASSERT_FALSE(link.alive());  // the page's streams end
   EXPECT_EQ(link.Command("stand", "", status)["message"], "this page's DDS client has exited or stopped taking requests");
 }
 

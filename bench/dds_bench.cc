@@ -5,17 +5,22 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <regex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "bench/child_process.h"
 #include "bench/machine.h"
+#include "bench/request_echo.h"
 #include "bench/stats.h"
 #include "core/check.h"
+#include "core/paths.h"
 
 extern char** environ;
 
@@ -103,56 +108,100 @@ PingResult Ping(int domain_id, int seconds, double rate_hz) {
   return result;
 }
 
-// skilld's status round trips, `calls` of them at `rate_hz`; those unanswered are counted, not timed.
+// Status round trips, `calls` of them at `rate_hz`, to skilld and, when `echo` is given, to the
+// echo right beside each one (in turn first and second, so that neither always follows the
+// other); those unanswered are counted, not timed.
 struct RoundTrips {
   std::vector<double> us;
   int unanswered = 0;
-};
-RoundTrips StatusRoundTrips(Client& client, int calls, double rate_hz) {
-  using Clock = std::chrono::steady_clock;
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
-  RoundTrips result;
-  result.us.reserve(calls);
-  auto next = Clock::now();
-  for (int i = 0; i < calls; ++i) {
-    std::this_thread::sleep_until(next);
-    next += period;
+  void Time(Client& client) {
+    using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     const Reply r = client.Status(std::chrono::milliseconds(1000));
     if (!r.answered()) {
-      ++result.unanswered;
-      continue;
+      ++unanswered;
+      return;
     }
-    result.us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+    us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
   }
-  return result;
+};
+struct Block {
+  RoundTrips skilld, echo;
+};
+Block StatusRoundTrips(Client& skilld, Client* echo, int calls, double rate_hz) {
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
+  Block block;
+  block.skilld.us.reserve(calls);
+  block.echo.us.reserve(calls);
+  auto next = Clock::now();
+  for (int i = 0; i < calls; ++i) {
+    std::this_thread::sleep_until(next);
+    // A call that was due while this thread did not run is not made up for by a burst: bursts
+    // beyond skilld's rate limit (requests_per_second, request_burst) are dropped unanswered.
+    next = std::max(next + period, Clock::now());
+    if (echo != nullptr && i % 2 == 1) block.echo.Time(*echo);
+    block.skilld.Time(skilld);
+    if (echo != nullptr && i % 2 == 0) block.echo.Time(*echo);
+  }
+  return block;
+}
+
+// The echo (request_echo.h) in a process of its own, as skilld is: `skillctl bench-echo`.
+std::unique_ptr<ChildProcess> StartEcho(int domain_id, const std::string& partition, int seconds) {
+  return std::make_unique<ChildProcess>(
+      std::vector<std::string>{ProgramPath(), "--domain", std::to_string(domain_id), "--partition",
+                               EchoPartition(partition), "bench-echo", "--seconds", std::to_string(seconds)},
+      "/dev/null");
 }
 
 }  // namespace
 
 nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOptions& options) {
   const int calls_per_block = static_cast<int>(options.rate_hz * options.block_seconds);
-  StatusRoundTrips(client, 100, options.rate_hz);  // warm-up
-  std::vector<double> all_us, ratios, ddsperf_p50s, ddsperf_p99s;
+  const int seconds = options.blocks * (2 * options.block_seconds + 2) + 20;
+  // With DDS Security the echo would need an identity of its own with skilld's permissions: the
+  // secured run compares against ddsperf only.
+  std::unique_ptr<ChildProcess> echo_process;
+  std::unique_ptr<Client> echo;
+  if (!options.security.enabled) {
+    echo_process = StartEcho(domain_id, options.partition, seconds);
+    Client::Options echo_options;
+    echo_options.domain_id = domain_id;
+    echo_options.partition = EchoPartition(options.partition);
+    echo = std::make_unique<Client>(echo_options);
+    if (!echo->WaitForServer(std::chrono::seconds(10))) throw InputError("skillctl bench: its echo did not answer");
+  }
+  StatusRoundTrips(client, echo.get(), 100, options.rate_hz);  // warm-up
+  std::vector<double> all_us, all_echo_us, ratios, echo_ratios, ddsperf_p50s, ddsperf_p99s;
   nlohmann::json blocks = nlohmann::json::array();
-  int unanswered = 0;
+  int unanswered = 0, echo_unanswered = 0;
   long ddsperf_round_trips = 0;
   {
     const ExtraCycloneConfig config(dds::SecurityXml(options.security));
     // One pong for every block, with room for each ping's start.
     const DdsperfPong pong(domain_id, options.blocks * (2 * options.block_seconds + 2) + 10);
     for (int b = 0; b < options.blocks; ++b) {
-      const RoundTrips skilld = StatusRoundTrips(client, calls_per_block, options.rate_hz);
+      const Block calls = StatusRoundTrips(client, echo.get(), calls_per_block, options.rate_hz);
       const PingResult ping = Ping(domain_id, options.block_seconds, options.rate_hz);
-      const double p50 = Quantile(skilld.us, 0.5), ddsperf_p50 = 2.0 * ping.p50_us;
-      unanswered += skilld.unanswered;
-      all_us.insert(all_us.end(), skilld.us.begin(), skilld.us.end());
+      const double p50 = Quantile(calls.skilld.us, 0.5), ddsperf_p50 = 2.0 * ping.p50_us;
+      unanswered += calls.skilld.unanswered;
+      echo_unanswered += calls.echo.unanswered;
+      all_us.insert(all_us.end(), calls.skilld.us.begin(), calls.skilld.us.end());
+      all_echo_us.insert(all_echo_us.end(), calls.echo.us.begin(), calls.echo.us.end());
       ratios.push_back(p50 / ddsperf_p50);
       ddsperf_p50s.push_back(ddsperf_p50);
       ddsperf_p99s.push_back(2.0 * ping.p99_us);
       ddsperf_round_trips += ping.count;
-      blocks.push_back({{"rtt_p50_us", p50}, {"rtt_p99_us", Quantile(skilld.us, 0.99)},
-                        {"ddsperf_rtt_p50_us", ddsperf_p50}, {"ratio", ratios.back()}});
+      nlohmann::json block = {{"rtt_p50_us", p50}, {"rtt_p99_us", Quantile(calls.skilld.us, 0.99)},
+                              {"ddsperf_rtt_p50_us", ddsperf_p50}, {"ratio", ratios.back()}};
+      if (echo) {
+        const double echo_p50 = Quantile(calls.echo.us, 0.5);
+        echo_ratios.push_back(p50 / echo_p50);
+        block["echo_rtt_p50_us"] = echo_p50;
+        block["ratio_to_echo"] = echo_ratios.back();
+      }
+      blocks.push_back(block);
     }
   }
   const double ratio = Quantile(ratios, 0.5);
@@ -178,6 +227,15 @@ nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOpti
       {"machine", MachineDescription()},
       {"dds_security", options.security.enabled},
   };
+  if (echo) {  // skilld's calls against the echo's, interleaved call by call
+    result["echo_calls"] = all_echo_us.size() + echo_unanswered;
+    result["echo_unanswered"] = echo_unanswered;
+    result["echo_rtt_p50_us"] = Quantile(all_echo_us, 0.5);
+    result["echo_rtt_p99_us"] = Quantile(all_echo_us, 0.99);
+    result["ratio_to_echo"] = Quantile(echo_ratios, 0.5);
+    result["ratio_to_echo_min"] = Quantile(echo_ratios, 0.0);
+    result["ratio_to_echo_max"] = Quantile(echo_ratios, 1.0);
+  }
   if (options.security.enabled) {  // what authentication and encryption add to a DDS round trip
     const DdsperfPong pong(domain_id, options.block_seconds + 3);
     const PingResult plain = Ping(domain_id, options.block_seconds, options.rate_hz);

@@ -10,8 +10,10 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "bench/dds_bench.h"
+#include "bench/request_echo.h"
 #include "client/client.h"
 #include "client/navigation_picture.h"
 #include "comm/protocol.h"
@@ -196,18 +198,31 @@ int main(int argc, char** argv) {
   CLI::App* watch = app.add_subcommand("watch", "Print the robot's state as it changes");
   watch->add_option("--seconds", watch_seconds, "Stop after this long (0: until Ctrl-C)");
   flsd::DdsBenchOptions bench_options;
-  CLI::App* bench = app.add_subcommand("bench", "Round trips to skilld against Cyclone's ddsperf; prints JSON");
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Round trips to skilld against a bare DDS echo of the same calls and Cyclone's ddsperf; prints JSON");
   bench->add_option("--rate", bench_options.rate_hz, "Calls (and pings) per second")->check(CLI::Range(1.0, 100000.0));
   bench->add_option("--blocks", bench_options.blocks, "Pairs of blocks: skilld's calls, then ddsperf's pings")
       ->check(CLI::Range(1, 1000));
   bench->add_option("--block-seconds", bench_options.block_seconds, "Length of each block")->check(CLI::Range(1, 600));
   bool json = false;  // JSON is the only output; the flag is accepted for symmetry with flsd bench
   bench->add_flag("--json", json, "Print one JSON object (the default output)");
+  // bench's echo (bench/request_echo.h), started by bench itself in a process of its own.
+  int echo_seconds = 60;
+  CLI::App* echo = app.add_subcommand("bench-echo", "")->group("");  // hidden
+  echo->add_option("--seconds", echo_seconds, "Answer calls for this long")->check(CLI::Range(1, 86400));
   CLI11_PARSE(app, argc, argv);
 
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   const std::string command = app.get_subcommands().front()->get_name();
+  if (command == "bench-echo") {
+    const flsd::RequestEcho echo_peer(options.domain_id, options.partition);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(echo_seconds);
+    while (!g_interrupted && std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return 0;
+  }
   const auto timeout = std::chrono::milliseconds(static_cast<int>(timeout_s * 1000));
   try {
     std::string map_yaml;
@@ -225,6 +240,7 @@ int main(int argc, char** argv) {
       options.security = flsd::dds::LoadSecurityFile(security_file);
       bench_options.security = options.security;
     }
+    bench_options.partition = options.partition;
     flsd::Client client(options);
     if (!client.WaitForServer(timeout)) {
       // With DDS Security, a server and a client that do not share a CA simply never meet.

@@ -36,7 +36,7 @@ ChildProcess::ChildProcess(const std::vector<std::string>& args, const std::stri
   } else {
     posix_spawn_file_actions_addopen(&output, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   }
-  const int spawned = posix_spawn(&pid_, args[0].c_str(), &output, nullptr, argv.data(), environ);
+  const int spawned = posix_spawnp(&pid_, args[0].c_str(), &output, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&output);
   if (spawned != 0) throw InputError("cannot start " + args[0] + ": " + std::strerror(spawned) + " (build it first)");
 }

@@ -15,7 +15,7 @@ std::string SiblingProgram(const std::string& name);
 
 class ChildProcess {
  public:
-  // Starts args[0] with `args`; its stdout goes to `out_path`, its stderr to `err_path` (empty:
+  // Starts args[0] (a path, or a name looked up in PATH) with `args`; its stdout goes to `out_path`, its stderr to `err_path` (empty:
   // to `out_path` too). Throws InputError if the program cannot be started.
   ChildProcess(const std::vector<std::string>& args, const std::string& out_path, const std::string& err_path = "");
   ~ChildProcess();  // SIGKILL if it still runs

@@ -1,9 +1,6 @@
 #include "bench/dds_bench.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <chrono>
@@ -21,8 +18,6 @@
 #include "bench/stats.h"
 #include "core/check.h"
 #include "core/paths.h"
-
-extern char** environ;
 
 namespace flsd {
 namespace {
@@ -59,27 +54,25 @@ class ExtraCycloneConfig {
 // `ddsperf pong` in the background for `seconds` or as long as this object lives, whichever is shorter.
 class DdsperfPong {
  public:
-  DdsperfPong(int domain_id, int seconds) {
-    const std::string domain = std::to_string(domain_id), duration = std::to_string(seconds);
-    const char* argv[] = {"ddsperf", "-i", domain.c_str(), "-D", duration.c_str(), "pong", nullptr};
-    posix_spawn_file_actions_t quiet;
-    posix_spawn_file_actions_init(&quiet);
-    posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
-    const int spawned = posix_spawnp(&pid_, "ddsperf", &quiet, nullptr, const_cast<char**>(argv), environ);
-    posix_spawn_file_actions_destroy(&quiet);
-    if (spawned != 0) throw InputError("cannot start ddsperf: is cyclonedds-tools installed?");
+  DdsperfPong(int domain_id, int seconds) : pong_(Start(domain_id, seconds)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
   }
-  ~DdsperfPong() {
-    kill(pid_, SIGTERM);
-    waitpid(pid_, nullptr, 0);
-  }
+  ~DdsperfPong() { pong_->Stop(SIGTERM, std::chrono::seconds(2)); }
   DdsperfPong(const DdsperfPong&) = delete;
   DdsperfPong& operator=(const DdsperfPong&) = delete;
 
  private:
-  pid_t pid_ = 0;
+  static std::unique_ptr<ChildProcess> Start(int domain_id, int seconds) {
+    try {
+      return std::make_unique<ChildProcess>(
+          std::vector<std::string>{"ddsperf", "-i", std::to_string(domain_id), "-D", std::to_string(seconds), "pong"},
+          "/dev/null");
+    } catch (const InputError&) {
+      throw InputError("cannot start ddsperf: is cyclonedds-tools installed?");
+    }
+  }
+
+  std::unique_ptr<ChildProcess> pong_;
 };
 
 // Runs `ddsperf ping` for `seconds` against a pong, and parses its interval lines:

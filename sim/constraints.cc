@@ -7,6 +7,10 @@
 
 namespace flsd {
 
+double BaseHeightShortfall(const RobotState& state, const ConstraintLimits& limits) {
+  return limits.min_moving_height - state.base_position.z();
+}
+
 std::array<float, kNumConstraints> MeasureViolations(const Env& env, const ConstraintLimits& limits) {
   const RobotState& s = env.state();
   std::array<float, kNumConstraints> out{};
@@ -16,7 +20,7 @@ std::array<float, kNumConstraints> MeasureViolations(const Env& env, const Const
   const Eigen::Vector3d v = s.base_linear_velocity;
   const bool moving = std::hypot(v.x(), v.y()) > limits.moving_speed ||
                       std::abs(s.base_angular_velocity.z()) > limits.moving_yaw_rate;
-  if (moving) set(Constraint::kLowBaseMoving, limits.min_moving_height - s.base_position.z());
+  if (moving) set(Constraint::kLowBaseMoving, BaseHeightShortfall(s, limits));
   double speed = 0.0, range = 0.0;
   for (int j = 0; j < a1::kNumJoints; ++j) {
     const double q = s.joint_position[j];

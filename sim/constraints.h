@@ -8,6 +8,7 @@
 
 #include "core/config.h"
 #include "robot/a1.h"
+#include "robot/robot_state.h"
 
 namespace flsd {
 
@@ -45,6 +46,10 @@ struct ConstraintLimits {
     v("joint_range_margin", joint_range_margin, Bounds<double>{0.0, 1.0});
   }
 };
+
+// How far the base is below min_moving_height (negative: above it). kLowBaseMoving counts it only
+// while the robot travels or turns; a trainer may hold a skill to it at any speed.
+double BaseHeightShortfall(const RobotState& state, const ConstraintLimits& limits);
 
 // The violations of `env`'s last step, indexed by Constraint.
 std::array<float, kNumConstraints> MeasureViolations(const Env& env, const ConstraintLimits& limits);

@@ -57,6 +57,7 @@ TEST(Constraints, ALowBaseCountsOnlyWhileMoving) {
   d.qpos[env.index().root_qpos + 2] = 0.20;
   env.SyncState();
   EXPECT_EQ(Violation(env, Constraint::kLowBaseMoving), 0.0f);  // a still, low posture is fine
+  EXPECT_NEAR(BaseHeightShortfall(env.state(), ConstraintLimits{}), 0.24 - 0.20, 1e-6);  // what a trainer may hold it to
   d.qvel[env.index().root_qvel + 5] = 0.8;  // turning at 0.8 rad/s
   env.SyncState();
   EXPECT_NEAR(Violation(env, Constraint::kLowBaseMoving), 0.24 - 0.20, 1e-6);

@@ -35,6 +35,10 @@ void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
       throw InputError(where + ": " + e.what());
     }
   }
+  if (config.travel.upright && !(config.travel.enabled() && config.env.constraints.enabled)) {
+    throw InputError(where + ": travel.upright: holds travel skills to a constraint, so it needs travel.weight > 0 "
+                     "and env.constraints.enabled");
+  }
   if (config.skill_switch.enabled() && config.skill_switch.interval_s.lo < a1::kControlDt) {
     throw InputError(where + ": skill_switch.interval_s: expected at least one control step (0.02 s), got " +
                      std::to_string(config.skill_switch.interval_s.lo));

@@ -148,6 +148,12 @@ double SkillDiscoveryTask::TravelPay(int i) const {
   return TravelReward(*target, {c * v.x() + sn * v.y(), -sn * v.x() + c * v.y(), yaw_rate}, config_.travel);
 }
 
+bool SkillDiscoveryTask::HeldUpright(int i) const {
+  if (!config_.travel.upright) return false;
+  const std::optional<TravelTarget>& target = travel_targets_[skill_[i]];
+  return target && !target->still;
+}
+
 // The critic's o^p and q, q in the current skill's frame (SkillFramePosition).
 torch::Tensor SkillDiscoveryTask::CriticObservations(const torch::Tensor& obs) {
   const int size = config_.discriminator.skill_frame_size();
@@ -205,7 +211,12 @@ void SkillDiscoveryTask::AfterStep(int t, const float* actions, Rollout& rollout
       dones[i] = done ? 1.0f : 0.0f;
       if (violations != nullptr) {
         const float* v = vec_.violations() + i * kNumConstraints;
-        std::copy(v, v + kNumConstraints, violations + i * kNumConstraints);
+        float* out = violations + i * kNumConstraints;
+        std::copy(v, v + kNumConstraints, out);
+        if (HeldUpright(i)) {
+          float& low = out[static_cast<int>(Constraint::kLowBaseMoving)];
+          low = std::max(low, static_cast<float>(BaseHeightShortfall(vec_.stepped_state(i), config_.env.constraints)));
+        }
       }
       timeouts[i] = ending == Termination::kTimeOut ? 1.0f : 0.0f;
       ++episode_length_[i];

@@ -102,6 +102,8 @@ class SkillDiscoveryTask : public RolloutTask {
   void SkillFramePosition(int i, const float* world, float* out) const;
   // Adds env i's turn from its last yaw to `yaw` (the shorter way round) to the heading turned.
   void TurnHeading(int i, double yaw);
+  // Whether env i's skill is held to the base height at any speed (TravelConfig::upright).
+  bool HeldUpright(int i) const;
   // Env i's pay for its last step's travel the way its skill goes (TravelReward, in the skill's
   // frame); 0 for a skill without a direction.
   double TravelPay(int i) const;

@@ -28,6 +28,10 @@ struct TravelConfig {
   double tolerance = 0.5;    // m/s: legged_gym's tracking_sigma 0.25 is this squared
   // One entry per skill: a direction's name (library_bar.h's kDirectionNames), "still" or "none".
   std::vector<std::string> directions;
+  // With constraint terminations: hold the skills paid for a direction to the constraints'
+  // min_moving_height at any speed. Otherwise the height constraint begins only once a robot
+  // travels or turns, and a turn skill can crouch under moving_yaw_rate, out of its reach.
+  bool upright = false;
 
   bool enabled() const { return weight > 0.0; }
   template <class V>
@@ -37,6 +41,7 @@ struct TravelConfig {
     v("turn_scale", turn_scale, Bounds<double>{0.0, 100.0});
     v("tolerance", tolerance, Bounds<double>{1e-3, 100.0});
     v("directions", directions);
+    v("upright", upright);
   }
 };
 

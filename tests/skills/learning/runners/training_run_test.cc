@@ -621,6 +621,28 @@ TEST_F(TrainingRun, TravelPaysSkillsForGoingTheirWays) {
   fs::remove_all(options.run_dir);
 }
 
+// travel.upright holds the travel skills to the base height at any speed: on the same first
+// rollout (the violations change rewards and ends, not the physics), more steps violate it than
+// when only a travelling or turning robot is held to it. Without constraints it has nothing to hold.
+TEST_F(TrainingRun, UprightHoldsTravelSkillsToTheBaseHeightAtAnySpeed) {
+  TrainConfig config = SymmetricSmokeConfig();
+  config.travel.weight = 1.0;
+  config.travel.directions = {"left", "right", "forward", "backward"};
+  const auto low_base_rate = [](const TrainConfig& c) {
+    testutil::SkillRun run(c);
+    run.runner.RunIteration();
+    return run.task.stats().constraints.violation_rate[static_cast<int>(Constraint::kLowBaseMoving)];
+  };
+  const double moving_only = low_base_rate(config);
+  config.travel.upright = true;
+  const double upright = low_base_rate(config);
+  EXPECT_GT(upright, moving_only);
+
+  config.env.constraints.enabled = false;
+  EXPECT_THAT(InputErrorMessage([&] { ValidateTrainConfig(config, "test config"); }),
+              AllOf(HasSubstr("travel.upright"), HasSubstr("env.constraints.enabled")));
+}
+
 TEST_F(TrainingRun, EvaluatesAndExportsARun) {
   const std::atomic<bool> stop{false};
   TrainingRunOptions options;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <regex>
 #include <string>
 #include <thread>
@@ -124,24 +125,40 @@ struct Block {
 Block StatusRoundTrips(Client& skilld, Client* echo, int calls, double rate_hz) {
   using Clock = std::chrono::steady_clock;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
+  constexpr int kEchoLost = 3;  // unanswered in a row: the echo has gone, and every call would wait 1 s
   Block block;
   block.skilld.us.reserve(calls);
   block.echo.us.reserve(calls);
   auto next = Clock::now();
+  int echo_unanswered_in_a_row = 0;
+  const auto time_echo = [&] {
+    const int before = block.echo.unanswered;
+    block.echo.Time(*echo);
+    echo_unanswered_in_a_row = block.echo.unanswered > before ? echo_unanswered_in_a_row + 1 : 0;
+    if (echo_unanswered_in_a_row >= kEchoLost) {
+      throw InputError("skillctl bench: its echo stopped answering (" + std::to_string(kEchoLost) + " calls in a row)");
+    }
+  };
   for (int i = 0; i < calls; ++i) {
     std::this_thread::sleep_until(next);
     // A call that was due while this thread did not run is not made up for by a burst: bursts
     // beyond skilld's rate limit (requests_per_second, request_burst) are dropped unanswered.
     next = std::max(next + period, Clock::now());
-    if (echo != nullptr && i % 2 == 1) block.echo.Time(*echo);
+    if (echo != nullptr && i % 2 == 1) time_echo();
     block.skilld.Time(skilld);
-    if (echo != nullptr && i % 2 == 0) block.echo.Time(*echo);
+    if (echo != nullptr && i % 2 == 0) time_echo();
   }
   return block;
 }
 
+// p50 / peer_p50, or nullopt when either side has no answered call to time.
+std::optional<double> RatioOfMedians(const std::vector<double>& us, double peer_p50) {
+  if (us.empty() || !(peer_p50 > 0.0)) return std::nullopt;
+  return Quantile(us, 0.5) / peer_p50;
+}
+
 // The echo (request_echo.h) in a process of its own, as skilld is: `skillctl bench-echo`.
-std::unique_ptr<ChildProcess> StartEcho(int domain_id, const std::string& partition, int seconds) {
+std::unique_ptr<ChildProcess> StartEcho(int domain_id, const std::string& partition, long seconds) {
   return std::make_unique<ChildProcess>(
       std::vector<std::string>{ProgramPath(), "--domain", std::to_string(domain_id), "--partition",
                                EchoPartition(partition), "bench-echo", "--seconds", std::to_string(seconds)},
@@ -152,7 +169,8 @@ std::unique_ptr<ChildProcess> StartEcho(int domain_id, const std::string& partit
 
 nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOptions& options) {
   const int calls_per_block = static_cast<int>(options.rate_hz * options.block_seconds);
-  const int seconds = options.blocks * (2 * options.block_seconds + 2) + 20;
+  // The echo outlives any run of the bench that finishes: blocks stretch on a busy machine.
+  const long seconds = 3L * options.blocks * (2 * options.block_seconds + 2) + 60;
   // With DDS Security the echo would need an identity of its own with skilld's permissions: the
   // secured run compares against ddsperf only.
   std::unique_ptr<ChildProcess> echo_process;
@@ -177,26 +195,33 @@ nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOpti
     for (int b = 0; b < options.blocks; ++b) {
       const Block calls = StatusRoundTrips(client, echo.get(), calls_per_block, options.rate_hz);
       const PingResult ping = Ping(domain_id, options.block_seconds, options.rate_hz);
-      const double p50 = Quantile(calls.skilld.us, 0.5), ddsperf_p50 = 2.0 * ping.p50_us;
+      const double ddsperf_p50 = 2.0 * ping.p50_us;
       unanswered += calls.skilld.unanswered;
       echo_unanswered += calls.echo.unanswered;
       all_us.insert(all_us.end(), calls.skilld.us.begin(), calls.skilld.us.end());
       all_echo_us.insert(all_echo_us.end(), calls.echo.us.begin(), calls.echo.us.end());
-      ratios.push_back(p50 / ddsperf_p50);
       ddsperf_p50s.push_back(ddsperf_p50);
       ddsperf_p99s.push_back(2.0 * ping.p99_us);
       ddsperf_round_trips += ping.count;
-      nlohmann::json block = {{"rtt_p50_us", p50}, {"rtt_p99_us", Quantile(calls.skilld.us, 0.99)},
-                              {"ddsperf_rtt_p50_us", ddsperf_p50}, {"ratio", ratios.back()}};
+      // A block without an answered call (skilld's or the echo's) has no ratio: it is left out.
+      nlohmann::json block = {{"rtt_p50_us", Quantile(calls.skilld.us, 0.5)},
+                              {"rtt_p99_us", Quantile(calls.skilld.us, 0.99)},
+                              {"ddsperf_rtt_p50_us", ddsperf_p50}};
+      if (const std::optional<double> r = RatioOfMedians(calls.skilld.us, ddsperf_p50)) {
+        ratios.push_back(*r);
+        block["ratio"] = *r;
+      }
       if (echo) {
-        const double echo_p50 = Quantile(calls.echo.us, 0.5);
-        echo_ratios.push_back(p50 / echo_p50);
-        block["echo_rtt_p50_us"] = echo_p50;
-        block["ratio_to_echo"] = echo_ratios.back();
+        block["echo_rtt_p50_us"] = Quantile(calls.echo.us, 0.5);
+        if (const std::optional<double> r = RatioOfMedians(calls.skilld.us, Quantile(calls.echo.us, 0.5))) {
+          echo_ratios.push_back(*r);
+          block["ratio_to_echo"] = *r;
+        }
       }
       blocks.push_back(block);
     }
   }
+  if (ratios.empty()) throw InputError("skillctl bench: no block had an answered call to skilld and a ddsperf round trip");
   const double ratio = Quantile(ratios, 0.5);
   nlohmann::json result = {
       {"benchmark", "skillctl bench"},
@@ -228,6 +253,7 @@ nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOpti
     result["ratio_to_echo"] = Quantile(echo_ratios, 0.5);
     result["ratio_to_echo_min"] = Quantile(echo_ratios, 0.0);
     result["ratio_to_echo_max"] = Quantile(echo_ratios, 1.0);
+    result["ratio_to_echo_spread"] = Quantile(echo_ratios, 1.0) - Quantile(echo_ratios, 0.0);
   }
   if (options.security.enabled) {  // what authentication and encryption add to a DDS round trip
     const DdsperfPong pong(domain_id, options.block_seconds + 3);

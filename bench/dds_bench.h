@@ -22,7 +22,8 @@ struct DdsBenchOptions {
 // neighbour's load falls on both alike; the ratio reported is the median of the blocks' ratios,
 // with their spread. ddsperf reports one-way latency (RTT / 2); it is doubled here. Within skilld's
 // blocks every call alternates with one to a RequestEcho (without DDS Security): `ratio_to_echo`
-// is skilld's p50 over the echo's, the median of the blocks'.
+// is skilld's p50 over the echo's, the median of the blocks'. The echo runs as `<this program>
+// bench-echo`: only skillctl, which has that hidden command, may call this.
 // With security on, ddsperf runs with the client's credentials and then, once more after the
 // blocks, without any: that run shows what authentication and encryption add to a round trip.
 nlohmann::json RunDdsBenchmark(Client& client, int domain_id, const DdsBenchOptions& options);

@@ -8,12 +8,14 @@ RequestEcho::RequestEcho(int domain_id, const std::string& partition)
       listener_(&RequestEcho::OnRequests, this),
       requests_(domain_, flsd_msgs_Request_desc, dds::kRequestTopic, dds::kRequestQos, &listener_) {}
 
-void RequestEcho::OnRequests(dds_entity_t, void* self) {
-  auto* echo = static_cast<RequestEcho*>(self);
+void RequestEcho::OnRequests(dds_entity_t reader, void* self) {
+  // The writer is built before the reader, so it is there even for a request that comes while
+  // the reader's constructor runs; the reader is the callback's, not requests_ (not yet assigned).
+  const auto* echo = static_cast<const RequestEcho*>(self);
   static char kEmpty[] = "";
   // Nothing may unwind into Cyclone's receive thread: it would end the process.
   try {
-    echo->requests_.Take([&](const flsd_msgs_Request& request, const dds_sample_info_t&) {
+    dds::TakeSamples<flsd_msgs_Request>(reader, [&](const flsd_msgs_Request& request, const dds_sample_info_t&) {
       flsd_msgs_Reply reply{};
       reply.header = request.header;  // the client matches its reply by client id and request id
       reply.status = dds::ToIdl(ReplyStatus::kOk);

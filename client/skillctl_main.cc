@@ -207,21 +207,26 @@ int main(int argc, char** argv) {
   bool json = false;  // JSON is the only output; the flag is accepted for symmetry with flsd bench
   bench->add_flag("--json", json, "Print one JSON object (the default output)");
   // bench's echo (bench/request_echo.h), started by bench itself in a process of its own.
-  int echo_seconds = 60;
+  long echo_seconds = 60;
   CLI::App* echo = app.add_subcommand("bench-echo", "")->group("");  // hidden
-  echo->add_option("--seconds", echo_seconds, "Answer calls for this long")->check(CLI::Range(1, 86400));
+  echo->add_option("--seconds", echo_seconds, "Answer calls for this long")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
 
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   const std::string command = app.get_subcommands().front()->get_name();
   if (command == "bench-echo") {
-    const flsd::RequestEcho echo_peer(options.domain_id, options.partition);
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(echo_seconds);
-    while (!g_interrupted && std::chrono::steady_clock::now() < until) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    try {
+      const flsd::RequestEcho echo_peer(options.domain_id, options.partition);
+      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(echo_seconds);
+      while (!g_interrupted && std::chrono::steady_clock::now() < until) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+      return 0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "skillctl bench-echo: %s\n", e.what());
+      return kExitRefused;
     }
-    return 0;
   }
   const auto timeout = std::chrono::milliseconds(static_cast<int>(timeout_s * 1000));
   try {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "robot/robot_state.h"
 #include "sim/env.h"
 
 namespace flsd {

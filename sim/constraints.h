@@ -8,11 +8,11 @@
 
 #include "core/config.h"
 #include "robot/a1.h"
-#include "robot/robot_state.h"
 
 namespace flsd {
 
 class Env;
+struct RobotState;
 
 enum class Constraint : int {
   kFootSlip = 0,   // m/s a stance foot slides faster than the limit

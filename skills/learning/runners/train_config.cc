@@ -1,5 +1,7 @@
 #include "skills/learning/runners/train_config.h"
 
+#include <algorithm>
+
 namespace flsd {
 
 Method ParseMethod(const std::string& name) {
@@ -35,9 +37,15 @@ void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
       throw InputError(where + ": " + e.what());
     }
   }
-  if (config.travel.upright && !(config.travel.enabled() && config.env.constraints.enabled)) {
-    throw InputError(where + ": travel.upright: holds travel skills to a constraint, so it needs travel.weight > 0 "
-                     "and env.constraints.enabled");
+  if (config.travel.upright) {
+    if (!(config.travel.enabled() && config.env.constraints.enabled)) {
+      throw InputError(where + ": travel.upright: holds travel skills to a constraint, so it needs travel.weight > 0 "
+                       "and env.constraints.enabled");
+    }
+    const SkillTravelTargets targets = ParseSkillTravelTargets(config.travel, config.num_skills);
+    if (std::none_of(targets.begin(), targets.end(), [](const auto& t) { return t && !t->still; })) {
+      throw InputError(where + ": travel.upright: no entry of travel.directions is a direction, so it holds no skill");
+    }
   }
   if (config.skill_switch.enabled() && config.skill_switch.interval_s.lo < a1::kControlDt) {
     throw InputError(where + ": skill_switch.interval_s: expected at least one control step (0.02 s), got " +

@@ -638,6 +638,9 @@ TEST_F(TrainingRun, UprightHoldsTravelSkillsToTheBaseHeightAtAnySpeed) {
   const double upright = low_base_rate(config);
   EXPECT_GT(upright, moving_only);
 
+  config.travel.directions = {"still", "still", "none", "none"};
+  EXPECT_THAT(InputErrorMessage([&] { ValidateTrainConfig(config, "test config"); }),
+              AllOf(HasSubstr("travel.upright"), HasSubstr("holds no skill")));
   config.env.constraints.enabled = false;
   EXPECT_THAT(InputErrorMessage([&] { ValidateTrainConfig(config, "test config"); }),
               AllOf(HasSubstr("travel.upright"), HasSubstr("env.constraints.enabled")));

@@ -65,6 +65,12 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
   const double collective_seconds = comm.Sum(collectives.seconds) / comm.size();  // per rank, mean
   if (!comm.leader()) return nullptr;
   auto share = [&](double part) { return part / sum.seconds_total; };
+  // The most this run's algorithm could reach on this machine: physics and bookkeeping as
+  // measured, every learning phase's arithmetic at the full sgemm rate (no per-call overhead).
+  const double learning_gflop =
+      gflop.policy_inference + gflop.rewards + gflop.ppo_update + gflop.pae_update + gflop.discriminator_update;
+  const double bound_seconds =
+      task_sum.seconds_physics + task_sum.seconds_bookkeeping + learning_gflop / sgemm;
   // A phase that did not run (no PAE for DIAYN, say) has no rate: 0, not 0 / 0.
   auto arithmetic = [&](double seconds, double giga) {
     const double rate = seconds > 0.0 ? giga / seconds : 0.0;
@@ -88,6 +94,7 @@ nlohmann::json RunTrainBenchmark(const TrainBenchOptions& options) {
       {"env_steps_per_s", rate},
       {"physics_ceiling_steps_per_s", ceiling},
       {"ratio", rate / ceiling},
+      {"ratio_if_learning_at_sgemm", steps / bound_seconds / ceiling},
       {"collectives_per_iteration",
        {{"seconds", collective_seconds / options.iterations},
         {"calls", collectives.calls / options.iterations},

@@ -47,6 +47,10 @@ void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
       throw InputError(where + ": travel.upright: no entry of travel.directions is a direction, so it holds no skill");
     }
   }
+  if (config.travel.slip_tolerance > 0.0 && !(config.travel.enabled() && config.env.constraints.enabled)) {
+    throw InputError(where + ": travel.slip_tolerance: discounts travel pay by the slip constraint's violation, so it "
+                     "needs travel.weight > 0 and env.constraints.enabled");
+  }
   if (config.skill_switch.enabled() && config.skill_switch.interval_s.lo < a1::kControlDt) {
     throw InputError(where + ": skill_switch.interval_s: expected at least one control step (0.02 s), got " +
                      std::to_string(config.skill_switch.interval_s.lo));

@@ -145,7 +145,10 @@ double SkillDiscoveryTask::TravelPay(int i) const {
   const Eigen::Vector3d v = s.base_orientation * s.base_linear_velocity;  // world frame
   const double yaw0 = skill_origin_[i][2], c = std::cos(yaw0), sn = std::sin(yaw0);
   const double yaw_rate = (s.base_orientation * s.base_angular_velocity).z();
-  return TravelReward(*target, {c * v.x() + sn * v.y(), -sn * v.x() + c * v.y(), yaw_rate}, config_.travel);
+  const double pay = TravelReward(*target, {c * v.x() + sn * v.y(), -sn * v.x() + c * v.y(), yaw_rate}, config_.travel);
+  if (config_.travel.slip_tolerance <= 0.0) return pay;
+  return pay * TravelSlipShare(vec_.violations()[i * kNumConstraints + static_cast<int>(Constraint::kFootSlip)],
+                               config_.travel);
 }
 
 bool SkillDiscoveryTask::HeldUpright(int i) const {

@@ -105,7 +105,7 @@ class SkillDiscoveryTask : public RolloutTask {
   // Whether env i's skill is held to the base height at any speed (TravelConfig::upright).
   bool HeldUpright(int i) const;
   // Env i's pay for its last step's travel the way its skill goes (TravelReward, in the skill's
-  // frame); 0 for a skill without a direction.
+  // frame, less for a skating step with travel.slip_tolerance); 0 for a skill without a direction.
   double TravelPay(int i) const;
   // Records the step's transition of every env (windows, q, ends, penalties) and moves each env's
   // episode and skill schedule on.

@@ -85,4 +85,10 @@ double TravelReward(const TravelTarget& travel_target, const std::array<double, 
   return config.weight * std::exp(-error_squared / (config.tolerance * config.tolerance));
 }
 
+double TravelSlipShare(double slip_excess, const TravelConfig& config) {
+  if (config.slip_tolerance <= 0.0 || slip_excess <= 0.0) return 1.0;
+  const double x = slip_excess / config.slip_tolerance;
+  return std::exp(-x * x);
+}
+
 }  // namespace flsd

@@ -32,6 +32,10 @@ struct TravelConfig {
   // min_moving_height at any speed. Otherwise the height constraint begins only once a robot
   // travels or turns, and a turn skill can crouch under moving_yaw_rate, out of its reach.
   bool upright = false;
+  // With constraint terminations, m/s (0: off): each step's pay is multiplied by
+  // exp(-(s / slip_tolerance)^2), s how much faster than the constraint's slip_speed the step's
+  // fastest stance foot slid, so that a skill is paid for walking its way, not for skating it.
+  double slip_tolerance = 0.0;
 
   bool enabled() const { return weight > 0.0; }
   template <class V>
@@ -42,6 +46,7 @@ struct TravelConfig {
     v("tolerance", tolerance, Bounds<double>{1e-3, 100.0});
     v("directions", directions);
     v("upright", upright);
+    v("slip_tolerance", slip_tolerance, Bounds<double>{0.0, 100.0});
   }
 };
 
@@ -76,5 +81,8 @@ void CheckMirrorImages(const SkillTravelTargets& targets, const mirror::SkillPai
 // (x forward and y left as the robot faced when the skill began, m/s; yaw rate, rad/s).
 double TravelReward(const TravelTarget& target, const std::array<double, 3>& skill_frame_velocity,
                     const TravelConfig& config);
+// The share of that pay a step keeps whose fastest stance foot slid `slip_excess` m/s faster than
+// the slip constraint allows (negative: within it): 1 within it, or with slip_tolerance 0.
+double TravelSlipShare(double slip_excess, const TravelConfig& config);
 
 }  // namespace flsd

@@ -646,6 +646,28 @@ TEST_F(TrainingRun, UprightHoldsTravelSkillsToTheBaseHeightAtAnySpeed) {
               AllOf(HasSubstr("travel.upright"), HasSubstr("env.constraints.enabled")));
 }
 
+// travel.slip_tolerance discounts the pay of steps whose stance feet slide: on the same first
+// rollout (the pay changes rewards, not the physics) the travel skills earn less, and not nothing.
+TEST_F(TrainingRun, SlipToleranceDiscountsTheTravelPayOfSlidingSteps) {
+  TrainConfig config = SymmetricSmokeConfig();
+  config.travel.weight = 1.0;
+  config.travel.directions = {"left", "right", "forward", "backward"};
+  const auto travel_reward = [](const TrainConfig& c) {
+    testutil::SkillRun run(c);
+    run.runner.RunIteration();
+    return run.task.stats().travel_reward;
+  };
+  const double undiscounted = travel_reward(config);
+  config.travel.slip_tolerance = 0.05;
+  const double discounted = travel_reward(config);
+  EXPECT_LT(discounted, undiscounted);
+  EXPECT_GT(discounted, 0.0);
+
+  config.env.constraints.enabled = false;
+  EXPECT_THAT(InputErrorMessage([&] { ValidateTrainConfig(config, "test config"); }),
+              AllOf(HasSubstr("travel.slip_tolerance"), HasSubstr("env.constraints.enabled")));
+}
+
 TEST_F(TrainingRun, EvaluatesAndExportsARun) {
   const std::atomic<bool> stop{false};
   TrainingRunOptions options;

@@ -78,6 +78,16 @@ TEST(TravelReward, StillPaysInFullAtRestAndLessForAnyMotion) {
   EXPECT_DOUBLE_EQ(TravelReward(still, {0.1, 0.2, 0.3}, c), TravelReward(MirrorImage(still), {0.1, -0.2, -0.3}, c));
 }
 
+TEST(TravelReward, SlipShareFallsWithTheSlipPastTheConstraint) {
+  TravelConfig c = Pay(2.0);
+  EXPECT_DOUBLE_EQ(TravelSlipShare(0.3, c), 1.0);  // off by default
+  c.slip_tolerance = 0.1;
+  EXPECT_DOUBLE_EQ(TravelSlipShare(-0.05, c), 1.0);  // within the constraint
+  EXPECT_DOUBLE_EQ(TravelSlipShare(0.0, c), 1.0);
+  EXPECT_NEAR(TravelSlipShare(0.1, c), std::exp(-1.0), 1e-12);  // one tolerance past it
+  EXPECT_NEAR(TravelSlipShare(0.2, c), std::exp(-4.0), 1e-12);
+}
+
 TEST(TravelReward, TargetsParseByTheBarsNamesAndStill) {
   TravelConfig c = Pay(1.0);
   c.directions = {"left", "none", "still", "forward"};

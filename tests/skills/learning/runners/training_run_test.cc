@@ -621,22 +621,30 @@ TEST_F(TrainingRun, TravelPaysSkillsForGoingTheirWays) {
   fs::remove_all(options.run_dir);
 }
 
-// travel.upright holds the travel skills to the base height at any speed: on the same first
-// rollout (the violations change rewards and ends, not the physics), more steps violate it than
-// when only a travelling or turning robot is held to it. Without constraints it has nothing to hold.
-TEST_F(TrainingRun, UprightHoldsTravelSkillsToTheBaseHeightAtAnySpeed) {
+// The symmetric smoke config with its four skills paid for the four straight ways.
+TrainConfig StraightTravelSmokeConfig() {
   TrainConfig config = SymmetricSmokeConfig();
   config.travel.weight = 1.0;
   config.travel.directions = {"left", "right", "forward", "backward"};
-  const auto low_base_rate = [](const TrainConfig& c) {
-    testutil::SkillRun run(c);
-    run.runner.RunIteration();
-    return run.task.stats().constraints.violation_rate[static_cast<int>(Constraint::kLowBaseMoving)];
-  };
-  const double moving_only = low_base_rate(config);
+  return config;
+}
+
+// The task's statistics over the first rollout of `config`: changes to rewards and ends, not to
+// the physics, compare on the same rollout.
+SkillDiscoveryStats FirstRolloutStats(const TrainConfig& config) {
+  testutil::SkillRun run(config);
+  run.runner.RunIteration();
+  return run.task.stats();
+}
+
+// travel.upright holds the travel skills to the base height at any speed: more steps violate it
+// than when only a travelling or turning robot is held to it. Without constraints it has nothing to hold.
+TEST_F(TrainingRun, UprightHoldsTravelSkillsToTheBaseHeightAtAnySpeed) {
+  TrainConfig config = StraightTravelSmokeConfig();
+  constexpr int kLowBase = static_cast<int>(Constraint::kLowBaseMoving);
+  const double moving_only = FirstRolloutStats(config).constraints.violation_rate[kLowBase];
   config.travel.upright = true;
-  const double upright = low_base_rate(config);
-  EXPECT_GT(upright, moving_only);
+  EXPECT_GT(FirstRolloutStats(config).constraints.violation_rate[kLowBase], moving_only);
 
   config.travel.directions = {"still", "still", "none", "none"};
   EXPECT_THAT(InputErrorMessage([&] { ValidateTrainConfig(config, "test config"); }),
@@ -646,20 +654,13 @@ TEST_F(TrainingRun, UprightHoldsTravelSkillsToTheBaseHeightAtAnySpeed) {
               AllOf(HasSubstr("travel.upright"), HasSubstr("env.constraints.enabled")));
 }
 
-// travel.slip_tolerance discounts the pay of steps whose stance feet slide: on the same first
-// rollout (the pay changes rewards, not the physics) the travel skills earn less, and not nothing.
+// travel.slip_tolerance discounts the pay of steps whose stance feet slide: the travel skills
+// earn less on the same rollout, and not nothing.
 TEST_F(TrainingRun, SlipToleranceDiscountsTheTravelPayOfSlidingSteps) {
-  TrainConfig config = SymmetricSmokeConfig();
-  config.travel.weight = 1.0;
-  config.travel.directions = {"left", "right", "forward", "backward"};
-  const auto travel_reward = [](const TrainConfig& c) {
-    testutil::SkillRun run(c);
-    run.runner.RunIteration();
-    return run.task.stats().travel_reward;
-  };
-  const double undiscounted = travel_reward(config);
+  TrainConfig config = StraightTravelSmokeConfig();
+  const double undiscounted = FirstRolloutStats(config).travel_reward;
   config.travel.slip_tolerance = 0.05;
-  const double discounted = travel_reward(config);
+  const double discounted = FirstRolloutStats(config).travel_reward;
   EXPECT_LT(discounted, undiscounted);
   EXPECT_GT(discounted, 0.0);
 

@@ -95,6 +95,7 @@ TrackingEvaluation EvaluateController(TrackingController& controller, const EnvC
       BuildMotionObservation(env.state(), motion.data());
       const int skill = controller.Act(motion.data(), r.tracked.command.data(), previous.data(), action.data());
       used.insert(skill);
+      if (skill != last_skill) r.holds.push_back({skill, t});
       switches += last_skill >= 0 && skill != last_skill;
       last_skill = skill;
       previous = action;
@@ -139,7 +140,8 @@ nlohmann::json TrackingJson(const TrackingEvaluation& e) {
                      {"steps", r.steps},
                      {"fell", r.fell},
                      {"skills_used", r.skills_used},
-                     {"switches_per_s", r.switches_per_s}});
+                     {"switches_per_s", r.switches_per_s},
+                     {"holds", r.holds}});
   }
   return {{"selector", ToString(e.selector)},
           {"seconds", e.seconds},           {"settle_seconds", e.settle_seconds}, {"rms_lin_error", e.rms_lin_error},

@@ -46,6 +46,8 @@ struct TrackingResult {
   bool fell = false;
   int skills_used = 0;                   // distinct skills the selector chose
   double switches_per_s = 0.0;           // how often the chosen skill changed
+  // Each run of one skill: {skill, its first control step}, in order; what a fall followed.
+  std::vector<std::array<int, 2>> holds;
 };
 
 struct TrackingEvaluation {

@@ -37,8 +37,18 @@ TEST(EvaluateTracking, TimeSharingMeetsTheCommandsBetweenTheShippedSkills) {
   EXPECT_LT(shared.rms_lin_error, 0.15);
   EXPECT_LT(shared.rms_lin_error, 0.5 * nearest.rms_lin_error);
   EXPECT_LT(shared.rms_ang_error, 0.3);
-  // Each choice is held 1 s: at most one switch a second.
+  // Each choice is held 1 s: at most one switch a second, and the holds say which skill when.
   for (const TrackingResult& r : shared.cases) EXPECT_LE(r.switches_per_s, 1.0) << r.tracked.name;
+  const TrackingResult& forward = Case(shared, "forward");
+  ASSERT_GE(forward.holds.size(), 2u);
+  EXPECT_EQ(forward.holds[0][1], 0);
+  EXPECT_NEAR(static_cast<double>(forward.holds.size() - 1), forward.switches_per_s * forward.steps * 0.02, 1e-9);
+  for (size_t i = 1; i < forward.holds.size(); ++i) {
+    EXPECT_NE(forward.holds[i][0], forward.holds[i - 1][0]);
+    EXPECT_EQ(forward.holds[i][1] - forward.holds[i - 1][1], 50);  // 1 s of 50 Hz control
+  }
+  ASSERT_EQ(Case(nearest, "forward").holds.size(), 1u);
+  EXPECT_EQ(Case(nearest, "forward").holds[0][1], 0);
 }
 
 // The evaluation set is fixed: the eight standard commands, then 32 drawn from one seed within

@@ -46,7 +46,8 @@ struct TrackingResult {
   bool fell = false;
   int skills_used = 0;                   // distinct skills the selector chose
   double switches_per_s = 0.0;           // how often the chosen skill changed
-  // Each run of one skill: {skill, its first control step}, in order; what a fall followed.
+  // Each run of one skill: {skill (-1: a joint-level policy), its first control step}, in order;
+  // what a fall followed.
   std::vector<std::array<int, 2>> holds;
 };
 

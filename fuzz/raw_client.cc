@@ -110,6 +110,7 @@ RawState RawClient::Own(const flsd_msgs_RobotState& m, const dds_sample_info_t& 
   s.received = std::chrono::steady_clock::now();
   s.published_ns = info.source_timestamp;
   s.tick = m.tick;
+  s.time = m.time;
   s.mode = m.mode;
   s.faults = m.faults;
   s.fault_message = Text(m.fault_message);

@@ -42,6 +42,7 @@ struct RawState {
   std::chrono::steady_clock::time_point received;
   int64_t published_ns = 0;  // the writer's CLOCK_REALTIME timestamp of the sample
   uint64_t tick = 0;
+  double time = 0.0;  // s, the server's clock
   flsd_msgs_Mode mode = flsd_msgs_MODE_IDLE;
   uint32_t faults = 0;
   std::string fault_message, controller;

@@ -253,7 +253,8 @@ void DdsService::PublishState() {
     } catch (const dds::Error& e) {
       spdlog::warn("state sample not sent: {}", e.what());
     }
-    AnswerApplied(s);  // after the sample of the tick that applied them
+    handler_.ShowStatus(s);  // replies sent at once now say what the topic shows
+    AnswerApplied(s);        // after the sample of the tick that applied them
   }
 }
 

@@ -109,6 +109,10 @@ RequestHandler::ClientState& RequestHandler::Client(const std::string& id, doubl
       });
       uint64_t& floor = id_floors_[FloorBucket(oldest->first)];
       if (oldest->second.seen_request) floor = std::max(floor, oldest->second.last_request_id);
+      {
+        std::lock_guard<std::mutex> lock(trips_mutex_);
+        reported_trips_.erase(oldest->first);
+      }
       clients_.erase(oldest);
     }
     ClientState fresh;
@@ -119,8 +123,10 @@ RequestHandler::ClientState& RequestHandler::Client(const std::string& id, doubl
     fresh.last_request_id = floor;
     fresh.tokens = config_.request_burst;
     fresh.last_seen = now;
-    fresh.reported_trips = controller_.status().safety_trips;  // a newcomer hears of trips to come
     it = clients_.emplace(id, fresh).first;
+    const uint64_t trips = Shown().safety_trips;  // a newcomer hears of trips to come
+    std::lock_guard<std::mutex> lock(trips_mutex_);
+    reported_trips_[id] = trips;
   }
   return it->second;
 }
@@ -202,12 +208,24 @@ std::optional<ReplyContent> RequestHandler::Handle(const flsd_msgs_Request& requ
   lease_.Renew(client_id, now);
 
   std::optional<ReplyContent> reply = Dispatch(request, client_id, now, later);
-  const ControllerStatus status = controller_.status();
-  if (reply && status.safety_trips > client.reported_trips) {
-    reply->safety_report = status.fault_message[0] != '\0' ? status.fault_message.data() : "safety stop";
-    client.reported_trips = status.safety_trips;
+  if (!reply) return reply;
+  if (reply->ticket == 0) {
+    ReportTrips(client_id, Shown(), *reply);
+  } else {  // as of the tick the reply waits for: a trip in that tick precedes the reply
+    reply->settle = [this, client_id, settle = std::move(reply->settle)](ReplyContent& r, const ControllerStatus& s) {
+      if (settle) settle(r, s);
+      ReportTrips(client_id, s, r);
+    };
   }
   return reply;
+}
+
+void RequestHandler::ReportTrips(const std::string& client_id, const ControllerStatus& status, ReplyContent& reply) {
+  std::lock_guard<std::mutex> lock(trips_mutex_);
+  const auto reported = reported_trips_.find(client_id);  // gone: the client was forgotten meanwhile
+  if (reported == reported_trips_.end() || status.safety_trips <= reported->second) return;
+  reply.safety_report = status.fault_message[0] != '\0' ? status.fault_message.data() : "safety stop";
+  reported->second = status.safety_trips;
 }
 
 std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& request, const std::string& client_id,
@@ -221,7 +239,7 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
     r.with_skills = true;
     return r;
   }
-  if (call == Call::kStatus) return Reply(ReplyStatus::kOk, StatusText(controller_.status()));
+  if (call == Call::kStatus) return Reply(ReplyStatus::kOk, StatusText(Shown()));
   if (call == Call::kAcquireControl) {
     if (!lease_.Acquire(client_id, now)) {
       return Reply(ReplyStatus::kNotInControl, "control is held by " + lease_.holder());
@@ -268,7 +286,7 @@ std::optional<ReplyContent> RequestHandler::Dispatch(const flsd_msgs_Request& re
 
 std::optional<ReplyContent> RequestHandler::Motion(const flsd_msgs_Request& request, Call call,
                                                    const std::string& client_id, const DeferredReply& later) {
-  const ControllerStatus status = controller_.status();
+  const ControllerStatus status = Shown();
   ControlRequest control;
   if (call == Call::kExecuteSkill) {
     const int k = request.skill;
@@ -380,7 +398,7 @@ std::function<void(ReplyContent&, const ControllerStatus&)> RequestHandler::Sett
 }
 
 ReplyContent RequestHandler::ClearStop(const std::string& client_id) {
-  const ControllerStatus status = controller_.status();
+  const ControllerStatus status = Shown();
   if (!(status.faults & kFaultStop)) return Reply(ReplyStatus::kOk, "no emergency stop is latched");
   // Nobody, a presser included, undoes another client's press before the hold time has passed since it.
   if (status.time < status.stop.ClearableAt(client_id.c_str(), config_.safety.stop_hold_time)) {
@@ -472,7 +490,7 @@ std::optional<ReplyContent> RequestHandler::Velocity(const flsd_msgs_Request& re
     std::snprintf(text, sizeof text, "navigation to (%.2f, %.2f) accepted; planning", job->goal.x(), job->goal.y());
     accepted = text;
   }
-  if (const std::string blocked = MotionBlocked(controller_.status()); !blocked.empty()) {
+  if (const std::string blocked = MotionBlocked(Shown()); !blocked.empty()) {
     return Reply(ReplyStatus::kSafetyStop, blocked);
   }
   accepted += "; progress is on the state topic";
@@ -514,9 +532,22 @@ std::string RequestHandler::StatusText(const ControllerStatus& s) const {
     const std::string k = std::to_string(s.skill);
     text += s.mode == Mode::kStand ? " (skill " + k + " braking the last motion)" : " " + k;
   }
-  text += ", t " + Seconds(s.time) + ", control " + (lease_.held() ? lease_.holder() : std::string("free"));
+  text += ", t " + Seconds(s.time) + ", control " + (s.controller[0] != '\0' ? s.controller.data() : "free");
   text += ", faults " + (s.faults != 0 ? std::string(s.fault_message.data()) : std::string("none"));
   return text;
+}
+
+void RequestHandler::ShowStatus(const ControllerStatus& status) {
+  std::lock_guard<std::mutex> lock(shown_mutex_);
+  shown_ = status;
+}
+
+ControllerStatus RequestHandler::Shown() const {
+  {
+    std::lock_guard<std::mutex> lock(shown_mutex_);
+    if (shown_) return *shown_;
+  }
+  return controller_.status();
 }
 
 }  // namespace flsd

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -30,8 +31,9 @@ struct ReplyContent {
   uint64_t ticket = 0;
   // With a ticket: revises the reply, before it is sent, with the status of a tick that has
   // applied its request. That tick may have refused what was accepted here (the robot went down,
-  // or a stop latched, in between), and it fixes who may clear the stop a damp latched. Runs on
-  // the sender's thread: it touches nothing of the handler's.
+  // or a stop latched, in between), it fixes who may clear the stop a damp latched, and it
+  // carries the safety trips up to that tick. Runs on the sender's thread: of the handler's, it
+  // touches only what a mutex of its own guards.
   std::function<void(ReplyContent&, const ControllerStatus&)> settle;
 };
 
@@ -53,6 +55,13 @@ class RequestHandler {
   // Lets a silent controller's lease lapse; the robot then stands. Call at least every 50 ms.
   void Poll(double now);
 
+  // The status of the tick the state topic showed last: call it after each sample is written and
+  // before the replies that waited for that tick go out. A reply sent at once (status, a refusal,
+  // a clear_stop with nothing latched) says what this status says, never a tick the topic has yet
+  // to show, so a client that reads the topic after the reply never finds an older state there.
+  // Until the first call (a handler with no state topic), the controller's own status. Any thread.
+  void ShowStatus(const ControllerStatus& status);
+
   uint64_t dropped() const { return dropped_; }
   const std::string& controller_id() const { return lease_.holder(); }
 
@@ -68,7 +77,6 @@ class RequestHandler {
     bool seen_request = false;
     double tokens = 0.0;
     double last_seen = 0.0;
-    uint64_t reported_trips = 0;
   };
 
   ClientState& Client(const std::string& id, double now);
@@ -102,6 +110,12 @@ class RequestHandler {
   // The request's ticket, or 0 if the queue is full.
   uint64_t Submit(ControlRequest request, const std::string& client_id, uint64_t request_id);
   std::string StatusText(const ControllerStatus& status) const;
+  // What the handler answers at once from (ShowStatus).
+  ControllerStatus Shown() const;
+  // Puts the safety trips `status` counts that `client_id` has not been told of in `reply`'s
+  // safety_report. On the request thread for a reply sent at once, on the sender's for one that
+  // waited for a tick (its settle), with that tick's status.
+  void ReportTrips(const std::string& client_id, const ControllerStatus& status, ReplyContent& reply);
 
   Controller& controller_;
   ServerConfig config_;
@@ -111,6 +125,10 @@ class RequestHandler {
   std::unordered_map<std::string, ClientState> clients_;
   std::array<uint64_t, kIdFloorBuckets> id_floors_{};  // only rise
   uint64_t dropped_ = 0;
+  std::mutex trips_mutex_;
+  std::unordered_map<std::string, uint64_t> reported_trips_;  // per client, under trips_mutex_
+  mutable std::mutex shown_mutex_;
+  std::optional<ControllerStatus> shown_;  // under shown_mutex_
 };
 
 }  // namespace flsd

@@ -85,6 +85,38 @@ TEST_F(RequestHandlerTest, ListAndStatusNeedNoControl) {
   EXPECT_THAT(status.message, HasSubstr("control free"));
 }
 
+// Under a state topic (ShowStatus), a reply sent at once says what the topic showed last, not a
+// tick the topic has yet to publish: a client that reads the topic after the reply never finds
+// an older state there.
+TEST_F(RequestHandlerTest, AReplySentAtOnceSaysWhatTheStateTopicShowedLast) {
+  handler_.ShowStatus(controller_.status());
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  ASSERT_EQ(Send("a", "stand").status, ReplyStatus::kOk);
+  RunFor(3.0);
+  ASSERT_EQ(controller_.status().mode, Mode::kStand);
+  ASSERT_STREQ(controller_.status().controller.data(), "a");
+  const std::string before = Send("b", "status").message;
+  EXPECT_THAT(before, HasSubstr("mode idle"));
+  EXPECT_THAT(before, HasSubstr("control free"));
+  handler_.ShowStatus(controller_.status());
+  const std::string after = Send("b", "status").message;
+  EXPECT_THAT(after, HasSubstr("mode stand"));
+  EXPECT_THAT(after, HasSubstr("control a"));
+}
+
+// A damp's reply waits for the tick that applies it, and reports the stop that tick latched: the
+// trip comes before the reply, so the next reply has nothing to report.
+TEST_F(RequestHandlerTest, AReplyThatWaitedReportsTheTripsOfItsTick) {
+  ASSERT_EQ(Send("a", "acquire_control").status, ReplyStatus::kOk);
+  const ReplyContent damp = Send("b", "damp", 0.1);
+  EXPECT_EQ(damp.safety_report, "");
+  controller_.Tick();
+  EXPECT_THAT(Settled(damp).safety_report, HasSubstr("emergency stop"));
+  EXPECT_EQ(Send("b", "status", 0.2).safety_report, "");
+  EXPECT_THAT(Send("a", "status", 0.2).safety_report, HasSubstr("emergency stop"));  // each client once
+  EXPECT_EQ(Send("a", "status", 0.3).safety_report, "");
+}
+
 // The status names the running skill, and in stand the still skill that brakes the last motion.
 TEST_F(RequestHandlerTest, StatusNamesTheSkillRunningAndTheOneBraking) {
   const int walk = testutil::CalmestStraightSkill(controller_.library());

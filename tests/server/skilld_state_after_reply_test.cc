@@ -7,10 +7,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/common/raw_dds_client.h"
@@ -134,6 +136,47 @@ TEST_F(SkilldStateAfterReplyTest, TheControllerIsNamedBeforeEveryAcquireIsAnswer
     Expect(id, "acquire_control", Controller(id));
     Expect(id, "release_control", Controller(""));
   }
+  EXPECT_THAT(broken_, IsEmpty());
+}
+
+// A reply sent at once (status) says no more than the state topic has shown: its tick is one
+// the topic published before the reply, and it names that sample's holder and mode. A lease
+// that lapses while another client polls is where it once did not: the reply said "control free"
+// while the newest sample still named the old holder.
+TEST_F(SkilldStateAfterReplyTest, AStatusReplyNeverRunsAheadOfTheStateTopic) {
+  std::vector<RawState> samples;
+  const auto drain = [&] {
+    raw_->WaitForState([&](const RawState& s) { samples.push_back(s); return false; }, 0ms);
+  };
+  ASSERT_EQ(raw_->Call(Request("alice", "acquire_control"))->status, flsd_msgs_STATUS_OK);
+  int checked = 0;
+  const auto until = std::chrono::steady_clock::now() + 1500ms;  // past the 1-s lease's lapse
+  while (std::chrono::steady_clock::now() < until) {
+    const std::optional<RawReply> reply = raw_->Call(Request("bob", "status"));
+    ASSERT_TRUE(reply);
+    drain();
+    // "mode M..., t T s, control C, faults F"
+    const std::string& text = reply->message;
+    const size_t t_at = text.find(", t "), control_at = text.find(", control "), faults_at = text.find(", faults ");
+    ASSERT_TRUE(t_at != std::string::npos && control_at != std::string::npos && faults_at != std::string::npos) << text;
+    const double t = std::stod(text.substr(t_at + 4));
+    const std::string control = text.substr(control_at + 10, faults_at - control_at - 10);
+    const RawState* shown = nullptr;  // the sample of the reply's tick, published before it
+    for (const RawState& s : samples) {
+      if (s.published_ns < reply->published_ns && std::abs(s.time - t) < 0.005) shown = &s;
+    }
+    if (shown == nullptr) {
+      broken_.push_back("'" + text + "': no sample of that tick was published before the reply");
+      continue;
+    }
+    ++checked;
+    const std::string mode = std::string("mode ") + dds::ModeName(shown->mode);
+    if (control != (shown->controller.empty() ? "free" : shown->controller) || text.compare(0, mode.size(), mode) != 0) {
+      broken_.push_back("'" + text + "' against the sample of its tick: " + Describe(*shown));
+    }
+    std::this_thread::sleep_for(1ms);
+  }
+  EXPECT_GT(checked, 100);
   EXPECT_THAT(broken_, IsEmpty());
 }
 

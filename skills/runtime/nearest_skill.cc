@@ -124,6 +124,9 @@ void TimeSharingSelector::ChooseCycle(const Eigen::Vector3d& command, int from) 
   int best_length = 0;
   std::array<int, kMaxCycle> seq{};
   const auto consider = [&](int length) {
+    std::array<int, kMaxCycle> skills;
+    for (int h = 0; h < length; ++h) skills[h] = skill(seq[h]);
+    if (falling_cycles_.Contains(skills.data(), length)) return;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     double spread_sum = 0.0;
     int policy_switches = 0;

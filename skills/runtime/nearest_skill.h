@@ -77,13 +77,14 @@ class NearestSkillSelector {
 // It chooses the whole cycle for a command, not one hold at a time, so that:
 // - every switch in it, the one back to its start too, is one the library records no fall for,
 //   and a cycle a barred switch breaks is never entered (choosing hold by hold walked into skills
-//   whose way back was barred, and stood meanwhile);
+//   whose way back was barred, and stood meanwhile); nor is a cycle the library records a fall
+//   for when played for several periods (FallingCycles);
 // - any run of whole cycles (3 s at most) averages the cycle's velocity, not just the long run.
 // It counts on the descriptors, so a skill's ramp-up after a switch is not in its cost.
 class TimeSharingSelector {
  public:
   // Holds per cycle, at most: 3 s of 1-s holds, the window a user judges a command over.
-  static constexpr int kMaxCycle = 3;
+  static constexpr int kMaxCycle = FallingCycles::kMaxLength;
   // Cycles are made of the candidates nearest the command, this many at most, so that choosing
   // one costs the same for any library (at most 16^3 sequences, once per new command).
   static constexpr int kCycleSkills = 16;
@@ -103,7 +104,8 @@ class TimeSharingSelector {
   // follower's, a joystick's) keeps the cycle.
   static constexpr double kNewCommand = 0.1;
 
-  explicit TimeSharingSelector(const SkillLibrary& library) : nearest_(library) {}
+  explicit TimeSharingSelector(const SkillLibrary& library)
+      : nearest_(library), falling_cycles_(library.falling_cycles()) {}
 
   // The skill to hold next under `command` (vx, vy, wz), as nearest_.Clip clips it: the cycle's
   // next, or the first of a new cycle, entered after skill `from` (-1: none) by a switch the
@@ -111,12 +113,21 @@ class TimeSharingSelector {
   int Choose(const double* command, int from = -1);
   // Forgets the cycle (a new task).
   void Reset() { cycle_length_ = 0; }
+  // Never plays the cycle of `skills` (2 to kMaxCycle holds) again, as if the library recorded a
+  // fall for it: what the cycle evaluation does between its rounds.
+  void ExcludeCycle(const int* skills, int length) { falling_cycles_.Add(skills, length); }
   const NearestSkillSelector& nearest() const { return nearest_; }
+  // The cycles the selector never plays: the library's, and those excluded since.
+  const FallingCycles& falling_cycles() const { return falling_cycles_; }
+  // The skills of the cycle chosen last, in the order held, and how many (0 before any choice).
+  const std::array<int, kMaxCycle>& cycle() const { return cycle_; }
+  int cycle_length() const { return cycle_length_; }
 
  private:
   void ChooseCycle(const Eigen::Vector3d& command, int from);
 
   NearestSkillSelector nearest_;
+  FallingCycles falling_cycles_;
   std::array<int, kMaxCycle> cycle_{};  // skill ids
   int cycle_length_ = 0, next_ = 0;     // 0: no cycle
   Eigen::Vector3d cycle_command_ = Eigen::Vector3d::Zero();

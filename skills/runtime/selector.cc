@@ -26,7 +26,7 @@ class LearnedSelector final : public SkillSelector {
     BuildTaskObservation(motion_obs, command, input_.data());
     if (selector_.memory_window_steps > 0) memory.WriteFeatures(num_skills_, input_.data() + kTaskObsSize);
     network_.Run(input_.data(), logits_.data());
-    prior_.Write(command, memory.running(), prior_logits_.data());
+    prior_.Write(command, memory.previous(), memory.running(), prior_logits_.data());
     for (int k = 0; k < num_skills_; ++k) logits_[k] += prior_logits_[k];
     return static_cast<int>(std::max_element(logits_.begin(), logits_.end()) - logits_.begin());
   }
@@ -147,7 +147,7 @@ SelectorPrior::SelectorPrior(const SkillLibrary& library, double nearest_tempera
   FLSD_DEMAND(!(nearest_temperature > 0.0 && time_sharing_bonus > 0.0));
 }
 
-void SelectorPrior::Write(const double* command, int running, float* logits) {
+void SelectorPrior::Write(const double* command, int previous, int running, float* logits) {
   const NearestSkillSelector& nearest = time_sharing_.nearest();
   if (nearest_temperature_ > 0.0) {
     nearest.Prior(command, nearest_temperature_, logits);
@@ -157,7 +157,9 @@ void SelectorPrior::Write(const double* command, int running, float* logits) {
     if (time_sharing_bonus_ > 0.0) logits[time_sharing_.Choose(command, running)] = static_cast<float>(time_sharing_bonus_);
   }
   for (int k : nearest.candidates()) {
-    if (nearest.SwitchFalls(running, k)) logits[k] = NearestSkillSelector::kExcludedLogit;
+    if (nearest.SwitchFalls(running, k) || time_sharing_.falling_cycles().RepeatsSwitches(previous, running, k)) {
+      logits[k] = NearestSkillSelector::kExcludedLogit;
+    }
   }
 }
 

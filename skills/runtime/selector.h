@@ -62,7 +62,8 @@ std::optional<SelectorKind> ServedSelectorKind(const SkillLibrary& library, cons
 
 // The logits a learned selector's network's own are added to, written the same way in its training
 // and in serving: NearestSkillSelector::kExcludedLogit for a skill it may not choose (one that is
-// not Dependable, or a switch from the running skill the library records a fall for), and the
+// not Dependable, a switch from the running skill the library records a fall for, or one that
+// makes the switches of a cycle it records a fall for over again), and the
 // prior's logit for the rest: the nearest-skill prior at `nearest_temperature`, or
 // `time_sharing_bonus` on the time-sharing selector's choice and 0 elsewhere, or 0 (masks only).
 class SelectorPrior {
@@ -70,8 +71,9 @@ class SelectorPrior {
   SelectorPrior(const SkillLibrary& library, double nearest_temperature, double time_sharing_bonus);
   // A new task (the time-sharing cycle).
   void Reset() { time_sharing_.Reset(); }
-  // command: (vx, vy, wz) as the selector clips it; running: -1 for none. Writes num_skills logits.
-  void Write(const double* command, int running, float* logits);
+  // command: (vx, vy, wz) as the selector clips it; running: the skill running, previous: the one
+  // before it (SelectorMemory's; -1 for none). Writes num_skills logits.
+  void Write(const double* command, int previous, int running, float* logits);
 
  private:
   TimeSharingSelector time_sharing_;

@@ -19,6 +19,7 @@ void SelectorMemory::Reset(int running) {
   last_command_.setZero();
   count_ = next_ = 0;
   running_ = running;
+  previous_ = -1;
   steps_since_switch_ = steps_since_command_ = 0;
   has_command_ = false;
 }
@@ -32,7 +33,10 @@ void SelectorMemory::Record(const double* command, int skill, const float* motio
     sum_.setZero();
     count_ = next_ = steps_since_command_ = 0;
   }
-  if (skill != running_) steps_since_switch_ = 0;
+  if (skill != running_) {
+    steps_since_switch_ = 0;
+    previous_ = running_;
+  }
   running_ = skill;
   const ObservationSegment& lin = kMotionObsLayout[0];
   const ObservationSegment& ang = kMotionObsLayout[1];

@@ -31,6 +31,8 @@ class SelectorMemory {
   void Record(const double* command, int skill, const float* motion_obs);
 
   int running() const { return running_; }
+  // The skill that ran before the running one, since the last Reset (-1: none).
+  int previous() const { return previous_; }
   double seconds_since_switch() const;
   double seconds_since_command() const;
   // The last command minus the mean (vx, vy, wz) over the window's steps (those since the command
@@ -45,7 +47,7 @@ class SelectorMemory {
   Eigen::Vector3d sum_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d window_command_ = Eigen::Vector3d::Zero(), last_command_ = Eigen::Vector3d::Zero();
   int count_ = 0, next_ = 0;
-  int running_ = -1, steps_since_switch_ = 0, steps_since_command_ = 0;
+  int running_ = -1, previous_ = -1, steps_since_switch_ = 0, steps_since_command_ = 0;
   bool has_command_ = false;
 };
 

@@ -1,6 +1,7 @@
 #include "skills/runtime/skill_library.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -400,6 +401,30 @@ SkillLibrary SkillLibrary::Load(const std::string& path) {
       }
       if (from == to) m.Fail(at, "switches skill " + std::to_string(from) + " to itself");
       lib.falling_switches_.emplace(from, to);
+    }
+  }
+  if (m.Has("/cycles/falls")) {
+    const nlohmann::json& falls = m.At("/cycles/falls");
+    constexpr int kMax = FallingCycles::kMaxLength;
+    const std::string what = "must be a list of cycles, each 2 to " + std::to_string(kMax) + " skill ids";
+    if (!falls.is_array()) m.Fail("/cycles/falls", what);
+    for (size_t i = 0; i < falls.size(); ++i) {
+      const std::string at = "/cycles/falls/" + std::to_string(i);
+      if (!falls[i].is_array() || falls[i].size() < 2 || falls[i].size() > kMax) {
+        m.Fail(at, "must be a cycle of 2 to " + std::to_string(kMax) + " skill ids");
+      }
+      std::array<int, kMax> cycle{};
+      const int length = static_cast<int>(falls[i].size());
+      for (int h = 0; h < length; ++h) {
+        cycle[h] = m.Get<int>(at + "/" + std::to_string(h));
+        if (cycle[h] < 0 || cycle[h] >= lib.num_skills_) {
+          m.Fail(at, "names skill " + std::to_string(cycle[h]) + "; expected 0 to " + std::to_string(lib.num_skills_ - 1));
+        }
+      }
+      if (std::all_of(cycle.begin(), cycle.begin() + length, [&](int k) { return k == cycle[0]; })) {
+        m.Fail(at, "holds skill " + std::to_string(cycle[0]) + " throughout: a cycle switches");
+      }
+      lib.falling_cycles_.Add(cycle.data(), length);
     }
   }
   return lib;

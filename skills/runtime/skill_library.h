@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "skills/runtime/library_format.h"
+#include "skills/runtime/falling_cycles.h"
 #include "skills/runtime/safetensors.h"
 
 namespace flsd {
@@ -150,6 +151,9 @@ class SkillLibrary {
   // that switch. False for a library that records none.
   bool SwitchFell(int from, int to) const { return falling_switches_.count({from, to}) > 0; }
   const std::set<std::pair<int, int>>& falling_switches() const { return falling_switches_; }
+  // The cycles of holds the library records a fall for (`flsd cycles --record`, /cycles/falls):
+  // a selector plays none of them. Empty for a library that records none.
+  const FallingCycles& falling_cycles() const { return falling_cycles_; }
   // The cutoff (0: none) and order of the target filter the skills were trained behind; whoever
   // runs the policy runs a TargetFilter with them.
   double action_filter_hz() const { return action_filter_hz_; }
@@ -170,6 +174,7 @@ class SkillLibrary {
   std::optional<SelectorNetwork> selector_;
   std::vector<SkillDescriptor> skills_;
   std::set<std::pair<int, int>> falling_switches_;
+  FallingCycles falling_cycles_;
 };
 
 // Writes a library file as `output` (atomically), after loading it as skilld will: a file that

@@ -1,4 +1,5 @@
-// flsd eval, eval-library, export, export-selector, selector-curve, compose-library, track and transitions.
+// flsd eval, eval-library, export, export-selector, selector-curve, compose-library, track, transitions and
+// cycles.
 
 #include <cstdio>
 #include <memory>
@@ -225,6 +226,33 @@ void AddEvaluation(CLI::App& app, Subcommands& out) {
                    }
                    if (transitions->record) RecordTransitions(path, evaluations);
                    return PrintJson(out.size() == 1 ? out[0] : out);
+                 }});
+
+  struct CycleArgs {
+    std::string library = "models/a1_flsd.safetensors";
+    int per_axis = 15;
+    int periods = 8;
+    bool record = false;
+  };
+  auto cycles = std::make_shared<CycleArgs>();
+  CLI::App* cycles_cmd = app.add_subcommand(
+      "cycles", "Play the time-sharing selector's cycles for several periods from a stand, and count the falls");
+  cycles_cmd->add_option("library", cycles->library, "Skill library (default: the shipped one)");
+  cycles_cmd
+      ->add_option("--per-axis", cycles->per_axis,
+                   "Commands per axis of the grid over the selector's command range whose cycles are played")
+      ->check(CLI::Range(1, 30));
+  cycles_cmd->add_option("--periods", cycles->periods, "Periods each cycle is played")->check(CLI::Range(1, 20));
+  cycles_cmd->add_flag("--record", cycles->record,
+                       "Record the cycles that fell in the library, so that skilld's selectors never play them (after "
+                       "flsd transitions --record)");
+  out.push_back({cycles_cmd, [cycles] {
+                   const std::string path = ResolveDataPath(cycles->library);
+                   const SkillLibrary library = SkillLibrary::Load(path);
+                   const CycleEvaluation evaluation =
+                       EvaluateCycles(library, TrainingEnvOf(library), cycles->per_axis, cycles->periods, 1);
+                   if (cycles->record) RecordCycles(path, evaluation);
+                   return PrintJson(CycleJson(evaluation));
                  }});
 }
 

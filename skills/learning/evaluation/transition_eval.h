@@ -49,4 +49,33 @@ nlohmann::json TransitionJson(const TransitionEvaluation& evaluation);
 // selectors then never make those switches (SkillLibrary::SwitchFell).
 void RecordTransitions(const std::string& path, const std::vector<TransitionEvaluation>& evaluations);
 
+// Whether the time-sharing selector's cycles keep the robot up when played for several periods,
+// as they are: a cycle's switch can throw the robot from a state the pairwise evaluation above
+// never reaches (on the shipped library, a turn, a fast walk and an arc stood three periods and fell
+// on the third arc). The cycles are those the selector chooses from a stand for a grid of commands
+// over its command range, `per_axis` values an axis; each is played from a stand for `periods`
+// periods of 1-s holds. A cycle that fell is excluded and the grid chosen again, until a round
+// finds no cycle not yet played (at most kCycleRounds).
+struct CycleResult {
+  std::vector<int> skills;  // in the order held from the stand
+  int commands = 0;         // grid commands the selector chose it for
+  int fell_at_step = -1;    // control step of the fall, -1 if it stood
+};
+struct CycleEvaluation {
+  int per_axis = 0, periods = 0;
+  int rounds = 0;  // that played a cycle
+  double hold_seconds = 0.0;
+  std::vector<CycleResult> results;  // in the order played
+  int falls = 0;
+};
+inline constexpr int kCycleRounds = 5;
+CycleEvaluation EvaluateCycles(const SkillLibrary& library, const EnvConfig& env, int per_axis, int periods,
+                               uint64_t seed);
+nlohmann::json CycleJson(const CycleEvaluation& evaluation);
+// Writes the library at `path` again (atomically, checked as skilld loads it) with the cycles that
+// fell recorded as /cycles (the grid, the periods, the cycles played and the falls), replacing any
+// recorded before. skilld's selectors then never play them (SkillLibrary::falling_cycles). Run it
+// after `RecordTransitions`: the switches recorded change the cycles chosen.
+void RecordCycles(const std::string& path, const CycleEvaluation& evaluation);
+
 }  // namespace flsd

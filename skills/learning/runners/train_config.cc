@@ -47,6 +47,10 @@ void ValidateTrainConfig(const TrainConfig& config, const std::string& where) {
       throw InputError(where + ": travel.upright: no entry of travel.directions is a direction, so it holds no skill");
     }
   }
+  if (config.travel.upright_still && !config.travel.upright) {
+    throw InputError(where + ": travel.upright_still: holds the still skills as travel.upright holds the others, so it "
+                     "needs travel.upright: true");
+  }
   if (config.travel.slip_tolerance > 0.0 && !(config.travel.enabled() && config.env.constraints.enabled)) {
     throw InputError(where + ": travel.slip_tolerance: discounts travel pay by the slip constraint's violation, so it "
                      "needs travel.weight > 0 and env.constraints.enabled");

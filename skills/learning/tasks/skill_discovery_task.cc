@@ -154,7 +154,7 @@ double SkillDiscoveryTask::TravelPay(int i) const {
 bool SkillDiscoveryTask::HeldUpright(int i) const {
   if (!config_.travel.upright) return false;
   const std::optional<TravelTarget>& target = travel_targets_[skill_[i]];
-  return target && !target->still;
+  return target && (!target->still || config_.travel.upright_still);
 }
 
 // The critic's o^p and q, q in the current skill's frame (SkillFramePosition).

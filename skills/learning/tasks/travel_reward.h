@@ -32,6 +32,9 @@ struct TravelConfig {
   // min_moving_height at any speed. Otherwise the height constraint begins only once a robot
   // travels or turns, and a turn skill can crouch under moving_yaw_rate, out of its reach.
   bool upright = false;
+  // With upright: the still skills too. Left low, a still skill crouched under the height the
+  // walks keep and fell to pushes the walks took.
+  bool upright_still = false;
   // With constraint terminations, m/s (0: off): each step's pay is multiplied by
   // exp(-(s / slip_tolerance)^2), s how much faster than the constraint's slip_speed the step's
   // fastest stance foot slid, so that a skill is paid for walking its way, not for skating it.
@@ -46,6 +49,7 @@ struct TravelConfig {
     v("tolerance", tolerance, Bounds<double>{1e-3, 100.0});
     v("directions", directions);
     v("upright", upright);
+    v("upright_still", upright_still);
     v("slip_tolerance", slip_tolerance, Bounds<double>{0.0, 100.0});
   }
 };

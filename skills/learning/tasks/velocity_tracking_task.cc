@@ -135,7 +135,7 @@ VelocityTrackingTask::VelocityTrackingTask(const VelocityTrainConfig& config, co
     if (config.mirror) {
       mirror_prior_.emplace(*library_, shape_.nearest_prior_temperature, 0.0);
       rollout_commands_ = torch::zeros({t, n, 3}, torch::kFloat64);
-      rollout_running_ = torch::zeros({t, n}, torch::kLong);
+      rollout_skills_ = torch::zeros({t, n, 2}, torch::kLong);
     }
   }
   // A selector's running skill; a semi-MDP reward's window (the scratch policy's too).
@@ -171,7 +171,7 @@ void VelocityTrackingTask::Observe(torch::Tensor& raw) {
     // As LearnedSelector builds its input (selector.cc), and the prior after it.
     const int skills = library_->num_skills(), inputs = shape_.inputs(skills);
     if (shape_.memory_window_steps > 0) memories_[i].WriteFeatures(skills, row + kTaskObsSize);
-    priors_[i].Write(env_.command(i).data(), memories_[i].running(), row + inputs);
+    priors_[i].Write(env_.command(i).data(), memories_[i].previous(), memories_[i].running(), row + inputs);
   }
 }
 
@@ -197,10 +197,11 @@ void VelocityTrackingTask::BeginRollout() { sums_ = Sums{}; }
 void VelocityTrackingTask::Step(int t, const torch::Tensor& action, Rollout& rollout) {
   if (rollout_commands_.defined()) {
     double* commands = rollout_commands_[t].data_ptr<double>();
-    int64_t* running = rollout_running_[t].data_ptr<int64_t>();
+    int64_t* skills = rollout_skills_[t].data_ptr<int64_t>();
     for (int i = 0; i < num_envs_; ++i) {
       Eigen::Map<Eigen::Vector3d>(commands + 3 * i) = env_.command(i);
-      running[i] = memories_[i].running();
+      skills[2 * i] = memories_[i].previous();
+      skills[2 * i + 1] = memories_[i].running();
     }
   }
   // One decision: the choice holds for decision_interval control steps, whose rewards it earns
@@ -333,16 +334,18 @@ MirroredSamples VelocityTrackingTask::Mirror(const torch::Tensor& raw_obs, const
   const int64_t count = raw_obs.size(0);
   torch::Tensor mirrored = MirrorAlong(obs, raw_obs.narrow(1, 0, obs.size()), 1);
   std::vector<int64_t> pairs;
-  if (library_) {  // the prior of the mirrored command (vx, -vy, -wz) after the mirrored running skill
+  if (library_) {  // the prior of the mirrored command (vx, -vy, -wz) after the mirrored skills
     for (const SkillDescriptor& d : library_->skills()) pairs.push_back(d.mirror_skill);
     const int skills = library_->num_skills();
     torch::Tensor prior = torch::empty({count, skills}, torch::kFloat32);
     const torch::Tensor commands = rollout_commands_.view({count, 3}).contiguous();
-    const int64_t* running = rollout_running_.data_ptr<int64_t>();
+    const int64_t* ran = rollout_skills_.data_ptr<int64_t>();
+    const auto mirrored_skill = [&](int64_t k) { return k >= 0 ? static_cast<int>(pairs[k]) : -1; };
     for (int64_t r = 0; r < count; ++r) {
       const double* c = commands.data_ptr<double>() + 3 * r;
       const double flipped[3] = {c[0], -c[1], -c[2]};
-      mirror_prior_->Write(flipped, running[r] >= 0 ? pairs[running[r]] : -1, prior.data_ptr<float>() + r * skills);
+      mirror_prior_->Write(flipped, mirrored_skill(ran[2 * r]), mirrored_skill(ran[2 * r + 1]),
+                           prior.data_ptr<float>() + r * skills);
     }
     mirrored = torch::cat({mirrored, prior}, 1);
   }

@@ -224,8 +224,9 @@ class VelocityTrackingTask : public RolloutTask {
     double return_sum = 0.0, reward_sum = 0.0, lin_sum = 0.0, ang_sum = 0.0, lin_err2 = 0.0, ang_err2 = 0.0;
   } sums_;
 
-  // With mirror: each decision's command [T, N, 3] and running skill [T, N] (-1: none).
-  torch::Tensor rollout_commands_, rollout_running_;
+  // With mirror: each decision's command [T, N, 3], and the skill before the running one and the
+  // running one [T, N, 2] (-1: none).
+  torch::Tensor rollout_commands_, rollout_skills_;
 };
 
 }  // namespace flsd

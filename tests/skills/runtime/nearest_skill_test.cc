@@ -230,6 +230,35 @@ TEST(TimeSharingSelector, BuildsItsCycleOnlyOfSwitchesTheLibraryRecordsNoFallFor
   std::remove(free_path.c_str());
 }
 
+// A cycle the library records a fall for when played for several periods is never played, from
+// whichever hold it would be entered at: the next best cycle is.
+TEST(TimeSharingSelector, NeverPlaysACycleTheLibraryRecordsAFallFor) {
+  const std::vector<Velocity> velocities = {{0.36, 0, 0}, {0.75, 0, 0}, {0.3, 0, 0}, {0, 0, 0}};
+  const Eigen::Vector3d walk(0.5, 0, 0);
+  const std::string free_path = WriteLibraryWithFallingSwitches(velocities, {});
+  const SkillLibrary free_library = SkillLibrary::Load(free_path);
+  TimeSharingSelector free_selector(free_library);
+  EXPECT_THAT(Holds(free_selector, walk, 6), ::testing::ElementsAre(0, 1, 0, 0, 1, 0));
+  const std::string path = WriteLibraryWithFallingSwitches(velocities, {}, {{1, 0, 0}});
+  const SkillLibrary library = SkillLibrary::Load(path);
+  TimeSharingSelector selector(library);
+  const std::vector<int> holds = Holds(selector, walk, 6);
+  EXPECT_FALSE(selector.falling_cycles().Contains(selector.cycle().data(), selector.cycle_length()));
+  EXPECT_THAT(holds, ::testing::Not(::testing::ElementsAre(0, 1, 0, 0, 1, 0)));
+  EXPECT_LT(WorstThreeHoldError(holds, velocities, walk), 0.05);  // the slower walk in for one of 0.36
+  // Excluded after a fall (as the cycle evaluation does between rounds): another cycle again.
+  const auto cycle = [&] {
+    return std::vector<int>(selector.cycle().begin(), selector.cycle().begin() + selector.cycle_length());
+  };
+  const std::vector<int> played = cycle();
+  selector.ExcludeCycle(played.data(), static_cast<int>(played.size()));
+  selector.Reset();
+  Holds(selector, walk, 3);
+  EXPECT_NE(cycle(), played);
+  std::remove(path.c_str());
+  std::remove(free_path.c_str());
+}
+
 // A walk of the sideways walk's own policy pays its drift back, though another policy's pays it
 // back more exactly: its skills trained switching to each other (kCrossPolicyWeight).
 TEST(TimeSharingSelector, PrefersACycleWithinOnePolicy) {

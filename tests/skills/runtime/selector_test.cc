@@ -45,6 +45,7 @@ TEST(SelectorMemory, AveragesTheVelocityOverItsWindowSinceTheCommandChanged) {
   EXPECT_NEAR(memory.WindowError().y(), -0.075, 1e-6);
   EXPECT_NEAR(memory.WindowError().z(), 0.3, 1e-6);
   EXPECT_EQ(memory.running(), 3);
+  EXPECT_EQ(memory.previous(), 2);
   EXPECT_NEAR(memory.seconds_since_switch(), 0.06, 1e-9);
   EXPECT_NEAR(memory.seconds_since_command(), 0.12, 1e-9);
   // A command that wavers within TimeSharingSelector::kNewCommand keeps the window; the error is
@@ -67,13 +68,15 @@ TEST(SelectorMemory, AveragesTheVelocityOverItsWindowSinceTheCommandChanged) {
                                              0.0f, FloatNear(1.0f, 1e-6), 0, 0, 0, 1, 0));
   memory.Reset();
   EXPECT_EQ(memory.running(), -1);
+  EXPECT_EQ(memory.previous(), -1);
   EXPECT_EQ(memory.seconds_since_command(), 0.0);
 }
 
 TEST(SelectorPrior, MasksWhatSkilldMasksAndFavoursTheTimeSharingChoice) {
-  // Skill 3 fell in its randomised evaluation; the library records a fall on the switch 1 -> 2.
+  // Skill 3 fell in its randomised evaluation; the library records a fall on the switch 1 -> 2,
+  // and on the cycle 2, 1, 0 played for several periods.
   const std::string path = testutil::WriteLibraryWithFallingSwitches(
-      {{0, 0, 0}, {0.4, 0, 0}, {0.7, 0, 0}, {0.5, 0, 0}}, {{1, 2}});
+      {{0, 0, 0}, {0.4, 0, 0}, {0.7, 0, 0}, {0.5, 0, 0}}, {{1, 2}}, {{2, 1, 0}});
   SkillLibrary library = SkillLibrary::Load(path);
   std::remove(path.c_str());
   const_cast<SkillDescriptor&>(library.skills()[3]).randomized_fell = true;
@@ -83,13 +86,18 @@ TEST(SelectorPrior, MasksWhatSkilldMasksAndFavoursTheTimeSharingChoice) {
   constexpr float kOut = NearestSkillSelector::kExcludedLogit;
 
   SelectorPrior masks(library, 0.0, 0.0);
-  masks.Write(forward, -1, logits.data());
+  masks.Write(forward, -1, -1, logits.data());
   EXPECT_THAT(logits, testing::ElementsAre(0.0f, 0.0f, 0.0f, kOut));
-  masks.Write(forward, 1, logits.data());
+  masks.Write(forward, -1, 1, logits.data());
+  EXPECT_THAT(logits, testing::ElementsAre(0.0f, 0.0f, kOut, kOut));
+  // After 2 then 1, the cycle's next switch, to 0, is masked; after 0 then 1, nothing more.
+  masks.Write(forward, 2, 1, logits.data());
+  EXPECT_THAT(logits, testing::ElementsAre(kOut, 0.0f, kOut, kOut));
+  masks.Write(forward, 0, 1, logits.data());
   EXPECT_THAT(logits, testing::ElementsAre(0.0f, 0.0f, kOut, kOut));
 
   SelectorPrior nearest(library, 0.1, 0.0);
-  nearest.Write(forward, 1, logits.data());
+  nearest.Write(forward, -1, 1, logits.data());
   std::vector<float> expected(4);
   NearestSkillSelector(library).Prior(forward, 0.1, expected.data());
   expected[2] = kOut;
@@ -98,12 +106,13 @@ TEST(SelectorPrior, MasksWhatSkilldMasksAndFavoursTheTimeSharingChoice) {
   // The bonus goes to each hold of the time-sharing cycle (one without the barred switch).
   SelectorPrior shared(library, 0.0, 4.0);
   TimeSharingSelector time_sharing(library);
-  int from = -1;
+  int previous = -1, from = -1;
   for (int hold = 0; hold < 6; ++hold) {
-    shared.Write(forward, from, logits.data());
+    shared.Write(forward, previous, from, logits.data());
     const int chosen = time_sharing.Choose(forward, from);
     EXPECT_EQ(logits[chosen], 4.0f) << hold;
     EXPECT_EQ(logits[3], kOut);
+    if (chosen != from) previous = from;
     from = chosen;
   }
 }

@@ -136,13 +136,16 @@ inline std::string WriteLibrary(const std::vector<Velocity>& velocities, const s
   return path;
 }
 
-// The same, recording a fall on each switch (from, to) in `falls` (flsd transitions --record).
+// The same, recording a fall on each switch (from, to) in `falls` (flsd transitions --record) and
+// on each cycle of `cycle_falls` (flsd cycles --record).
 inline std::string WriteLibraryWithFallingSwitches(const std::vector<Velocity>& velocities,
-                                            const std::vector<std::pair<int, int>>& falls) {
+                                            const std::vector<std::pair<int, int>>& falls,
+                                            const std::vector<std::vector<int>>& cycle_falls = {}) {
   const std::string path = WriteLibrary(velocities, {});
   SafeTensors file = ReadSafeTensors(path);
   nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
   meta["transitions"]["falls"] = falls;
+  if (!cycle_falls.empty()) meta["cycles"]["falls"] = cycle_falls;
   file.metadata["flsd"] = meta.dump();
   WriteSafeTensors(path, file);
   return path;

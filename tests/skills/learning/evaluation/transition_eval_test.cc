@@ -1,5 +1,6 @@
 // Switching between every ordered pair of the shipped library's dependable skills: every pair is
-// run once, each skill also from a stand, and a started skill moves as its descriptor says.
+// run once, each skill also from a stand, and a started skill moves as its descriptor says. The
+// time-sharing selector's cycles played for several periods, and the record of those that fell.
 
 #include "skills/learning/evaluation/transition_eval.h"
 
@@ -14,6 +15,7 @@
 #include "tests/common/test_support.h"
 #include "skills/learning/evaluation/tracking_eval.h"
 #include "skills/runtime/nearest_skill.h"
+#include "skills/runtime/safetensors.h"
 
 namespace flsd {
 namespace {
@@ -87,6 +89,55 @@ TEST(EvaluateTransitions, MoreHandoversFindAtLeastTheFallsOfOneAndTheRecordKeeps
   const SkillLibrary both = SkillLibrary::Load(path);
   EXPECT_EQ(static_cast<int>(both.falling_switches().size()), five.falls + !five.results.back().fell);
   EXPECT_EQ(both.metadata()["transitions"]["first_seconds"], nlohmann::json::array({2.0, 1.0}));
+  std::remove(path.c_str());
+}
+
+// The shipped library without its record of cycles: played for four periods, the cycle of the
+// left turn in place, the 0.88 m/s walk and the left arc (10, 6, 3) falls, as it did on two
+// commands of the tracking evaluation set, though none of its switches falls from a stand. The
+// record keeps exactly the cycles that fell, and a selector over the recorded library plays none
+// of them and finds no new one that falls.
+TEST(EvaluateCycles, FindsACycleThatFallsOnlyAfterPeriodsAndTheRecordKeepsItOut) {
+  const std::string path = testutil::UniqueTempPath("cycles.safetensors");
+  SafeTensors file = ReadSafeTensors(ResolveDataPath("models/a1_flsd.safetensors"));
+  nlohmann::json metadata = nlohmann::json::parse(file.metadata.at("flsd"));
+  metadata.erase("cycles");
+  file.metadata["flsd"] = metadata.dump();
+  WriteSafeTensors(path, file);
+  const SkillLibrary library = SkillLibrary::Load(path);
+  ASSERT_TRUE(library.falling_cycles().empty());
+  const CycleEvaluation e = EvaluateCycles(library, TrainingEnvOf(library), 9, 4, 1);
+  EXPECT_EQ(e.hold_seconds, 1.0);
+  EXPECT_GE(e.rounds, 2);  // the falls' commands got other cycles, played in the next round
+  int falls = 0;
+  FallingCycles fell;
+  const int turn_walk_arc[3] = {10, 6, 3};
+  for (const CycleResult& r : e.results) {
+    ASSERT_GE(r.skills.size(), 2u);
+    EXPECT_GE(r.commands, 1);
+    EXPECT_LT(r.fell_at_step, 4 * 50 * static_cast<int>(r.skills.size()));
+    if (r.fell_at_step < 0) continue;
+    ++falls;
+    FallingCycles one;
+    one.Add(r.skills.data(), static_cast<int>(r.skills.size()));
+    if (one.Contains(turn_walk_arc, 3)) EXPECT_GT(r.fell_at_step, 2 * 150) << "it held two periods in the tracking evaluation";
+    fell.Add(r.skills.data(), static_cast<int>(r.skills.size()));
+  }
+  EXPECT_EQ(falls, e.falls);
+  EXPECT_TRUE(fell.Contains(turn_walk_arc, 3)) << "the evaluation set's falling cycle was not found";
+
+  // A cycle is recorded if it fell from any of its holds (a cycle entered at one hold can stand
+  // where the same cycle entered at another falls).
+  RecordCycles(path, e);
+  const SkillLibrary recorded = SkillLibrary::Load(path);
+  EXPECT_EQ(recorded.falling_cycles().cycles(), fell.cycles());
+  EXPECT_EQ(recorded.metadata()["cycles"]["periods"], 4);
+  const CycleEvaluation again = EvaluateCycles(recorded, TrainingEnvOf(recorded), 9, 4, 1);
+  EXPECT_EQ(again.falls, 0);
+  EXPECT_EQ(again.rounds, 1);
+  for (const CycleResult& r : again.results) {
+    EXPECT_FALSE(recorded.falling_cycles().Contains(r.skills.data(), static_cast<int>(r.skills.size())));
+  }
   std::remove(path.c_str());
 }
 

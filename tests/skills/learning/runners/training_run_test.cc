@@ -654,6 +654,22 @@ TEST_F(TrainingRun, UprightHoldsTravelSkillsToTheBaseHeightAtAnySpeed) {
               AllOf(HasSubstr("travel.upright"), HasSubstr("env.constraints.enabled")));
 }
 
+// travel.upright_still holds the still skills to the base height too: more steps violate it than
+// with the movers alone held. It needs travel.upright.
+TEST_F(TrainingRun, UprightStillHoldsTheStillSkillsToo) {
+  TrainConfig config = StraightTravelSmokeConfig();
+  config.travel.directions = {"still", "still", "forward", "backward"};
+  config.travel.upright = true;
+  constexpr int kLowBase = static_cast<int>(Constraint::kLowBaseMoving);
+  const double movers_only = FirstRolloutStats(config).constraints.violation_rate[kLowBase];
+  config.travel.upright_still = true;
+  EXPECT_GT(FirstRolloutStats(config).constraints.violation_rate[kLowBase], movers_only);
+
+  config.travel.upright = false;
+  EXPECT_THAT(InputErrorMessage([&] { ValidateTrainConfig(config, "test config"); }),
+              AllOf(HasSubstr("travel.upright_still"), HasSubstr("needs travel.upright: true")));
+}
+
 // travel.slip_tolerance discounts the pay of steps whose stance feet slide: the travel skills
 // earn less on the same rollout, and not nothing.
 TEST_F(TrainingRun, SlipToleranceDiscountsTheTravelPayOfSlidingSteps) {

@@ -221,7 +221,7 @@ TEST_F(VelocityTraining, TheExportedSelectorMatchesLibtorchAndRunsTheSkills) {
     if (clipped[0] == command[0] && clipped[1] == command[1] && clipped[2] == command[2]) {
       hierarchy.Reset();
       const int skill = hierarchy.Act(row, command, previous.data(), action.data());
-      masks.Write(command, -1, mask.data());
+      masks.Write(command, -1, -1, mask.data());
       EXPECT_EQ(skill, (logits[i] + torch::tensor(mask)).argmax().item<int64_t>()) << "sample " << i;
     }
   }
@@ -310,7 +310,7 @@ TEST_F(VelocityTraining, ASemiMdpSelectorIsServedWithItsMemoryPriorAndHold) {
     if (t % 5 == 0) {
       BuildTaskObservation(m, command, row.data());
       memory.WriteFeatures(skills, row.data() + kTaskObsSize);
-      prior.Write(command, memory.running(), row.data() + inputs);
+      prior.Write(command, memory.previous(), memory.running(), row.data() + inputs);
       const torch::Tensor raw = torch::tensor(row).unsqueeze(0);
       const int normalized = served.normalized_inputs();
       const torch::Tensor obs = torch::cat(

@@ -113,11 +113,11 @@ class TimeSharingSelector {
   int Choose(const double* command, int from = -1);
   // Forgets the cycle (a new task).
   void Reset() { cycle_length_ = 0; }
-  // Never plays the cycle of `skills` (2 to kMaxCycle holds) again, as if the library recorded a
-  // fall for it: what the cycle evaluation does between its rounds.
-  void ExcludeCycle(const int* skills, int length) { falling_cycles_.Add(skills, length); }
+  // Plays none of `cycles`, in place of the library's record: the cycle evaluation measures
+  // afresh, excluding only what it saw fall.
+  void AvoidCycles(FallingCycles cycles) { falling_cycles_ = std::move(cycles); }
   const NearestSkillSelector& nearest() const { return nearest_; }
-  // The cycles the selector never plays: the library's, and those excluded since.
+  // The cycles the selector never plays: the library's, or those given to AvoidCycles.
   const FallingCycles& falling_cycles() const { return falling_cycles_; }
   // The skills of the cycle chosen last, in the order held, and how many (0 before any choice).
   const std::array<int, kMaxCycle>& cycle() const { return cycle_; }

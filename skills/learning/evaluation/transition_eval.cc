@@ -140,6 +140,8 @@ CycleEvaluation EvaluateCycles(const SkillLibrary& library, const EnvConfig& env
   const MjModelPtr model = LoadMjModel(config.model);
   PolicyRunner runner(library);
   TimeSharingSelector selector(library);
+  FallingCycles fell;  // the library's record is measured again, not trusted
+  selector.AvoidCycles(fell);
   const Eigen::Vector3d lo = selector.nearest().velocity_min(), hi = selector.nearest().velocity_max();
   const auto grid = [&](int axis, int i) {
     return per_axis == 1 ? 0.5 * (lo[axis] + hi[axis]) : lo[axis] + (hi[axis] - lo[axis]) * i / (per_axis - 1);
@@ -149,7 +151,7 @@ CycleEvaluation EvaluateCycles(const SkillLibrary& library, const EnvConfig& env
   out.per_axis = per_axis;
   out.periods = periods;
   out.hold_seconds = hold * a1::kControlDt;
-  std::map<std::vector<int>, size_t> played;  // a cycle as entered from the stand -> its result
+  std::set<std::vector<int>> played;  // cycles as entered from the stand
   while (out.rounds < kCycleRounds) {
     std::map<std::vector<int>, int> chosen;  // this round's new cycles -> grid commands
     for (int i = 0; i < per_axis * per_axis * per_axis; ++i) {
@@ -174,9 +176,10 @@ CycleEvaluation EvaluateCycles(const SkillLibrary& library, const EnvConfig& env
       }
       if (r.fell_at_step >= 0) {
         ++out.falls;
-        selector.ExcludeCycle(cycle.data(), length);
+        fell.Add(cycle.data(), length);
+        selector.AvoidCycles(fell);
       }
-      played[cycle] = out.results.size();
+      played.insert(cycle);
       out.results.push_back(r);
     }
   }

@@ -54,8 +54,9 @@ void RecordTransitions(const std::string& path, const std::vector<TransitionEval
 // never reaches (on the shipped library, a turn, a fast walk and an arc stood three periods and fell
 // on the third arc). The cycles are those the selector chooses from a stand for a grid of commands
 // over its command range, `per_axis` values an axis; each is played from a stand for `periods`
-// periods of 1-s holds. A cycle that fell is excluded and the grid chosen again, until a round
-// finds no cycle not yet played (at most kCycleRounds).
+// periods of 1-s holds. The library's own record of cycles is not used: a cycle that fell here is
+// excluded and the grid chosen again, until a round finds no cycle not yet played (at most
+// kCycleRounds), so that the grid's final choices all stood.
 struct CycleResult {
   std::vector<int> skills;  // in the order held from the stand
   int commands = 0;         // grid commands the selector chose it for

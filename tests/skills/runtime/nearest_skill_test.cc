@@ -246,12 +246,14 @@ TEST(TimeSharingSelector, NeverPlaysACycleTheLibraryRecordsAFallFor) {
   EXPECT_FALSE(selector.falling_cycles().Contains(selector.cycle().data(), selector.cycle_length()));
   EXPECT_THAT(holds, ::testing::Not(::testing::ElementsAre(0, 1, 0, 0, 1, 0)));
   EXPECT_LT(WorstThreeHoldError(holds, velocities, walk), 0.05);  // the slower walk in for one of 0.36
-  // Excluded after a fall (as the cycle evaluation does between rounds): another cycle again.
+  // Avoided after a fall (as the cycle evaluation does between rounds): another cycle again.
   const auto cycle = [&] {
     return std::vector<int>(selector.cycle().begin(), selector.cycle().begin() + selector.cycle_length());
   };
   const std::vector<int> played = cycle();
-  selector.ExcludeCycle(played.data(), static_cast<int>(played.size()));
+  FallingCycles avoided;
+  avoided.Add(played.data(), static_cast<int>(played.size()));
+  selector.AvoidCycles(avoided);
   selector.Reset();
   Holds(selector, walk, 3);
   EXPECT_NE(cycle(), played);

@@ -247,6 +247,33 @@ TEST_F(SkillLibraryTest, RecordsTheSwitchesThatFell) {
               HasSubstr("/transitions/falls must be a list of [from, to] skill id pairs"));
 }
 
+// The cycles that fell in `flsd cycles --record` (/cycles/falls): 2 or 3 skill ids that switch.
+TEST_F(SkillLibraryTest, RecordsTheCyclesThatFell) {
+  EXPECT_TRUE(SkillLibrary::Load(path_).falling_cycles().empty());
+  SafeTensors file = ReadSafeTensors(path_);
+  nlohmann::json meta = nlohmann::json::parse(file.metadata["flsd"]);
+  meta["cycles"]["falls"] = {{4, 0, 2}, {1, 3}};
+  file.metadata["flsd"] = meta.dump();
+  WriteSafeTensors(path_, file);
+  const SkillLibrary lib = SkillLibrary::Load(path_);
+  const FallingCycles& cycles = lib.falling_cycles();
+  const int entered_at_two[3] = {2, 4, 0}, two[2] = {3, 1};
+  EXPECT_TRUE(cycles.Contains(entered_at_two, 3));
+  EXPECT_TRUE(cycles.Contains(two, 2));
+  EXPECT_EQ(cycles.cycles().size(), 2u);
+
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["cycles"]["falls"] = {{0, kSkills}}; }),
+              HasSubstr("/cycles/falls/0 names skill 5; expected 0 to 4"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["cycles"]["falls"] = {{1, 3}, {2, 2, 2}}; }),
+              HasSubstr("/cycles/falls/1 holds skill 2 throughout: a cycle switches"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["cycles"]["falls"] = {{1, 3, 4, 0}}; }),
+              HasSubstr("/cycles/falls/0 must be a cycle of 2 to 3 skill ids"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["cycles"]["falls"] = {{1, 0.5}}; }),
+              HasSubstr("/cycles/falls/0/1 must be an integer (it is 0.5)"));
+  EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { m["cycles"]["falls"] = "1 then 3"; }),
+              HasSubstr("/cycles/falls must be a list of cycles, each 2 to 3 skill ids"));
+}
+
 TEST_F(SkillLibraryTest, RejectsEachMismatchNamingTheField) {
   EXPECT_THAT(LoadWithEdit([](nlohmann::json& m) { std::swap(m["joint_names"][0], m["joint_names"][1]); }),
               HasSubstr("/joint_names/0 is 'FR_thigh_joint' but this build expects 'FR_hip_joint'"));

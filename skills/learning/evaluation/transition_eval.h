@@ -51,7 +51,7 @@ void RecordTransitions(const std::string& path, const std::vector<TransitionEval
 
 // Whether the time-sharing selector's cycles keep the robot up when played for several periods,
 // as they are: a cycle's switch can throw the robot from a state the pairwise evaluation above
-// never reaches (on the shipped library, a turn, a fast walk and an arc stood three periods and fell
+// never reaches (on the shipped library, a turn, a fast walk and an arc stood two periods and fell
 // on the third arc). The cycles are those the selector chooses from a stand for a grid of commands
 // over its command range, `per_axis` values an axis; each is played from a stand for `periods`
 // periods of 1-s holds. The library's own record of cycles is not used: a cycle that fell here is
